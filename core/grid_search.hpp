@@ -1,0 +1,130 @@
+// Exact nearest-neighbour search over a hashed grid of cubic cells: the one
+// search used by the reading's normals, the map's normals and the ICP matcher.
+// Cells are visited ring by ring around the query's cell, and a cell is only
+// looked up when its box is closer than the current k-th neighbour, so a query
+// whose neighbours sit in its own cell costs one or two hash look-ups.
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <span>
+
+namespace tumble {
+
+struct CellKey {
+  std::int32_t x = 0;
+  std::int32_t y = 0;
+  std::int32_t z = 0;
+  friend bool operator==(const CellKey&, const CellKey&) = default;
+};
+
+// splitmix64 finaliser over the packed coordinates: robin_map masks the hash
+// with a power of two, so every bit of the hash must depend on every coordinate.
+struct CellKeyHash {
+  std::size_t operator()(const CellKey& k) const noexcept {
+    std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.x)) << 42) ^
+                      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.y)) << 21) ^
+                      static_cast<std::uint64_t>(static_cast<std::uint32_t>(k.z));
+    h ^= h >> 30;
+    h *= 0xbf58476d1ce4e5b9ULL;
+    h ^= h >> 27;
+    h *= 0x94d049bb133111ebULL;
+    h ^= h >> 31;
+    return static_cast<std::size_t>(h);
+  }
+};
+
+inline CellKey cell_of(const Eigen::Vector3d& p, double inv_cell_size) {
+  return CellKey{static_cast<std::int32_t>(std::floor(p.x() * inv_cell_size)),
+                 static_cast<std::int32_t>(std::floor(p.y() * inv_cell_size)),
+                 static_cast<std::int32_t>(std::floor(p.z() * inv_cell_size))};
+}
+
+// A neighbour found by a search; `index` means what the searched structure says.
+struct Neighbour {
+  double distance_sq = 0;
+  std::uint32_t index = 0;
+};
+
+// The k closest candidates offered so far, sorted by distance, kept in storage
+// the caller owns (so a search never allocates). Candidates at or beyond
+// max_distance are refused.
+class KnnResult {
+ public:
+  KnnResult(std::span<Neighbour> storage, double max_distance_m)
+      : storage_(storage), max_distance_sq_(max_distance_m * max_distance_m) {}
+
+  void offer(double distance_sq, std::uint32_t index) {
+    if (distance_sq >= bound_sq()) return;
+    std::size_t i = std::min(size_, storage_.size() - 1);  // slot of the worst kept, or the free one
+    if (size_ < storage_.size()) ++size_;
+    while (i > 0 && storage_[i - 1].distance_sq > distance_sq) {
+      storage_[i] = storage_[i - 1];
+      --i;
+    }
+    storage_[i] = Neighbour{distance_sq, index};
+  }
+
+  // Squared radius inside which a new candidate would still be kept.
+  double bound_sq() const {
+    return size_ < storage_.size() ? max_distance_sq_ : storage_[size_ - 1].distance_sq;
+  }
+  std::size_t size() const { return size_; }
+  std::span<const Neighbour> neighbours() const { return storage_.first(size_); }
+
+ private:
+  std::span<Neighbour> storage_;
+  double max_distance_sq_;
+  std::size_t size_ = 0;
+};
+
+// Offers to `result` the points of every cell that can hold one of the k
+// nearest neighbours of q. visit_cell(const CellKey&, KnnResult&) offers the
+// points of one cell (it is called only for cells that may matter).
+template <class VisitCell>
+void grid_knn_search(const Eigen::Vector3d& q, double cell_size_m, KnnResult& result, VisitCell&& visit_cell) {
+  if (result.bound_sq() <= 0) return;  // k = 0 or a zero radius: nothing can be kept
+  const double inv = 1.0 / cell_size_m;
+  const Eigen::Vector3d qc = q * inv;
+  const CellKey base = cell_of(q, inv);
+  // Query position inside its own cell, in cell units, in [0, 1).
+  const double rx = qc.x() - base.x, ry = qc.y() - base.y, rz = qc.z() - base.z;
+  const double face = std::min({rx, 1 - rx, ry, 1 - ry, rz, 1 - rz});
+  const double h2 = cell_size_m * cell_size_m;
+  // Gap, in cell units, between the query and the slab of cells at offset d.
+  auto gap = [](int d, double r) { return d > 0 ? d - r : (d < 0 ? r + (-d) - 1 : 0.0); };
+
+  visit_cell(base, result);
+  // Cells beyond the search radius are never needed (an unbounded radius is
+  // capped to keep the ring count an int; it is only reached on empty grids).
+  const double radius_cells = std::min(std::sqrt(result.bound_sq()) * inv, 1.0e6);
+  const int max_ring = static_cast<int>(std::ceil(radius_cells)) + 1;
+  for (int ring = 1; ring <= max_ring; ++ring) {
+    const double ring_gap = (ring - 1) + face;  // no cell of this ring is closer
+    if (ring_gap * ring_gap * h2 >= result.bound_sq()) break;
+    for (int dx = -ring; dx <= ring; ++dx) {
+      const double gx = gap(dx, rx);
+      const double gx2 = gx * gx * h2;
+      if (gx2 >= result.bound_sq()) continue;
+      for (int dy = -ring; dy <= ring; ++dy) {
+        const double gy = gap(dy, ry);
+        const double gxy2 = gx2 + gy * gy * h2;
+        if (gxy2 >= result.bound_sq()) continue;
+        const bool on_shell_xy = (dx == -ring || dx == ring || dy == -ring || dy == ring);
+        // Inside the shell only the two z faces belong to this ring.
+        const int dz_step = on_shell_xy ? 1 : 2 * ring;
+        for (int dz = -ring; dz <= ring; dz += dz_step) {
+          const double gz = gap(dz, rz);
+          if (gxy2 + gz * gz * h2 >= result.bound_sq()) continue;
+          visit_cell(CellKey{base.x + dx, base.y + dy, base.z + dz}, result);
+        }
+      }
+    }
+  }
+}
+
+}  // namespace tumble

@@ -1,0 +1,234 @@
+#include "core/icp.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace tumble {
+
+namespace {
+
+// Eigenvalues below this fraction of the largest are numerically zero: the
+// step has no component along them (the initial guess is kept there).
+constexpr double kPseudoInverseCutoff = 1e-12;
+
+Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w) {
+  const double angle = w.norm();
+  if (angle < 1e-12) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
+}
+
+void check_params(const IcpParams& p) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("IcpParams: " + what); };
+  if (!(p.max_match_distance_m > 0)) fail("max_match_distance_m must be > 0");
+  if (p.match_k < 1 || p.match_k > 64) fail("match_k must be in [1, 64]");
+  if (!(p.frmsd_r_min > 0 && p.frmsd_r_min <= p.frmsd_r_max && p.frmsd_r_max <= 1))
+    fail("need 0 < frmsd_r_min <= frmsd_r_max <= 1");
+  if (!(p.frmsd_lambda >= 0)) fail("frmsd_lambda must be >= 0");
+  if (p.max_iterations < 1) fail("max_iterations must be >= 1");
+  if (p.averaged_window < 1) fail("averaged_window must be >= 1");
+  if (!(p.max_normal_angle_deg > 0)) fail("max_normal_angle_deg must be > 0");
+}
+
+}  // namespace
+
+FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, double r_max, double lambda,
+                     std::vector<double>& scratch) {
+  FrmsdTrim trim;
+  const std::size_t n = squared_distances.size();
+  if (n == 0) return trim;
+  const std::size_t k_lo = std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(r_min * n)));
+  const std::size_t k_hi = std::max(k_lo, static_cast<std::size_t>(std::floor(r_max * n)));
+  scratch.assign(squared_distances.begin(), squared_distances.end());
+  // Only the k_hi smallest matter, in order.
+  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k_hi - 1), scratch.end());
+  std::sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k_hi));
+  double sum = 0;
+  for (std::size_t k = 1; k < k_lo; ++k) sum += scratch[k - 1];
+  double best = std::numeric_limits<double>::infinity();
+  std::size_t best_k = k_lo;
+  for (std::size_t k = k_lo; k <= k_hi; ++k) {
+    sum += scratch[k - 1];
+    const double r = static_cast<double>(k) / static_cast<double>(n);
+    // FRMSD² (same minimiser, no square root per candidate).
+    const double frmsd_sq = (sum / static_cast<double>(k)) / std::pow(r, 2 * lambda);
+    if (frmsd_sq < best) {
+      best = frmsd_sq;
+      best_k = k;
+    }
+  }
+  trim.kept = best_k;
+  trim.ratio = static_cast<double>(best_k) / static_cast<double>(n);
+  trim.threshold_sq = scratch[best_k - 1];
+  return trim;
+}
+
+Icp::Icp(const IcpParams& params) : params_(params) {
+  check_params(params);
+  neighbours_.resize(static_cast<std::size_t>(params.match_k));
+}
+
+IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl) {
+  IcpResult result;
+  Eigen::Matrix3d R = initial_T_wl.rotation();
+  Eigen::Vector3d t = initial_T_wl.translation();
+  recent_rotation_rad_.clear();
+  // Normals can only agree up to the estimate's own rotation error, which is
+  // unknown until it has converged: the normal test starts then, and the
+  // iterations go on until the estimate converges with it.
+  const bool use_normal_test = params_.max_normal_angle_deg < 90.0;
+  const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * M_PI / 180.0);
+  bool normal_test_on = false;
+  recent_translation_m_.clear();
+
+  Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
+  double weight_sum = 0;
+  double length_scale = 1;
+  bool have_system = false;
+
+  for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
+    const double min_normal_cos = normal_test_on ? normal_test_cos : 0.0;
+    // Data association.
+    matches_.clear();
+    for (std::size_t i = 0; i < reading.size(); ++i) {
+      const Eigen::Vector3d p_w = R * reading.points[i] + t;
+      const std::size_t found = map.knn(p_w, params_.max_match_distance_m, neighbours_);
+      const double read_var = reading.sigma_n_m[i] * reading.sigma_n_m[i] + reading.sigma_s_m[i] * reading.sigma_s_m[i];
+      const bool check_normal = reading.normal_valid[i] != 0 && min_normal_cos > 0;
+      const Eigen::Vector3d read_normal_w = check_normal ? Eigen::Vector3d(R * reading.normals[i]) : Eigen::Vector3d::Zero();
+      for (std::size_t j = 0; j < found; ++j) {
+        const MapPoint& q = map.point(neighbours_[j].index);
+        if (!q.normal_valid) continue;
+        if (check_normal && std::abs(read_normal_w.dot(q.normal_w)) < min_normal_cos) continue;
+        double w;
+        if (params_.weighting == MatchWeighting::kPointWeight) {
+          w = reading.weights[i];
+        } else {
+          const double var = read_var + q.sigma_n_m * q.sigma_n_m + q.sigma_s_m * q.sigma_s_m;
+          w = var > 0 ? 1.0 / var : 0.0;
+        }
+        if (!(w > 0) || !std::isfinite(w)) continue;
+        const double trim_sq = params_.trim_distance == TrimDistance::kMatch
+                                   ? neighbours_[j].distance_sq
+                                   : [&] { const double r = q.normal_w.dot(p_w - q.p_w); return r * r; }();
+        matches_.push_back(Match{p_w, q.p_w, q.normal_w, trim_sq, w});
+      }
+    }
+    result.matches_considered = matches_.size();
+    if (matches_.size() < 6) break;
+
+    // Outlier rejection (FRMSD) on the chosen distance.
+    distances_sq_.resize(matches_.size());
+    for (std::size_t m = 0; m < matches_.size(); ++m) distances_sq_[m] = matches_[m].distance_sq;
+    const FrmsdTrim trim =
+        frmsd_trim(distances_sq_, params_.frmsd_r_min, params_.frmsd_r_max, params_.frmsd_lambda, scratch_);
+    double max_weight = 0;
+    double range_sq_sum = 0;
+    std::size_t kept = 0;
+    for (const Match& m : matches_) {
+      if (m.distance_sq > trim.threshold_sq) continue;
+      max_weight = std::max(max_weight, m.weight);
+      range_sq_sum += (m.p_w - t).squaredNorm();
+      ++kept;
+    }
+    if (kept < 6) break;
+    length_scale = std::max(std::sqrt(range_sq_sum / static_cast<double>(kept)), 1e-3);
+
+    // Gauss-Newton system in the scaled coordinates (t, L·ω): J = [n, (p − t) × n / L].
+    Matrix6d H = Matrix6d::Zero();
+    Vector6d g = Vector6d::Zero();
+    double weighted_sq_sum = 0;
+    weight_sum = 0;
+    const double inv_l = 1.0 / length_scale;
+    for (const Match& m : matches_) {
+      if (m.distance_sq > trim.threshold_sq) continue;
+      const double w = m.weight / max_weight;
+      const double r = m.normal_w.dot(m.p_w - m.q_w);
+      Vector6d J;
+      J.head<3>() = m.normal_w;
+      J.tail<3>() = (m.p_w - t).cross(m.normal_w) * inv_l;
+      H.noalias() += w * J * J.transpose();
+      g.noalias() += w * r * J;
+      weighted_sq_sum += w * r * r;
+      weight_sum += w;
+    }
+    result.matches_kept = kept;
+    result.inlier_ratio = static_cast<double>(kept) / static_cast<double>(matches_.size());
+    result.residual_rms_m = std::sqrt(weighted_sq_sum / weight_sum);
+    const double dof = static_cast<double>(kept) - 6.0;
+    const double residual_variance = dof > 0 ? weighted_sq_sum / dof : 0.0;
+
+    eigen.compute(H);
+    const Vector6d lambda = eigen.eigenvalues();
+    const double cutoff = lambda(5) * kPseudoInverseCutoff;
+    Vector6d step_scaled = Vector6d::Zero();
+    Matrix6d H_inv = Matrix6d::Zero();
+    for (int e = 0; e < 6; ++e) {
+      const Vector6d v = eigen.eigenvectors().col(e);
+      const double l = std::max(lambda(e), cutoff);
+      if (lambda(e) > cutoff) step_scaled -= v * (v.dot(g) / l);
+      H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
+    }
+    have_system = true;
+    // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
+    Vector6d unscale;
+    unscale << 1, 1, 1, inv_l, inv_l, inv_l;
+    result.covariance = residual_variance * unscale.asDiagonal() * H_inv * unscale.asDiagonal();
+
+    const Eigen::Vector3d d_t = step_scaled.head<3>();
+    const Eigen::Vector3d d_w = step_scaled.tail<3>() * inv_l;
+    R = rotation_exp(d_w) * R;
+    t += d_t;
+    result.iterations = iteration + 1;
+
+    const double rot = d_w.norm(), trans = d_t.norm();
+    bool converged;
+    if (params_.convergence == ConvergenceCriterion::kIncrementBelow) {
+      converged = rot < params_.increment_rotation_rad && trans < params_.increment_translation_m;
+    } else {
+      recent_rotation_rad_.push_back(rot);
+      recent_translation_m_.push_back(trans);
+      const std::size_t w = static_cast<std::size_t>(params_.averaged_window);
+      converged = false;
+      if (recent_rotation_rad_.size() >= w) {
+        const double mean_rot =
+            std::accumulate(recent_rotation_rad_.end() - static_cast<std::ptrdiff_t>(w), recent_rotation_rad_.end(), 0.0) / w;
+        const double mean_trans =
+            std::accumulate(recent_translation_m_.end() - static_cast<std::ptrdiff_t>(w), recent_translation_m_.end(), 0.0) / w;
+        converged = mean_rot < params_.averaged_rotation_rad && mean_trans < params_.averaged_translation_m;
+      }
+    }
+    if (converged && use_normal_test && !normal_test_on) {
+      normal_test_on = true;
+      recent_rotation_rad_.clear();
+      recent_translation_m_.clear();
+    } else if (converged) {
+      result.converged = true;
+      break;
+    }
+  }
+
+  Eigen::Quaterniond q(R);
+  q.normalize();
+  result.T_wl.linear() = q.toRotationMatrix();
+  result.T_wl.translation() = t;
+
+  Degeneracy& d = result.degeneracy;
+  d.length_scale_m = length_scale;
+  if (have_system && weight_sum > 0) {
+    const Vector6d lambda = eigen.eigenvalues();
+    d.min_eigenvalue = std::max(lambda(0), 0.0) / weight_sum;
+    d.direction = eigen.eigenvectors().col(0);
+    d.condition_number = lambda(0) > 0 ? lambda(5) / lambda(0) : std::numeric_limits<double>::infinity();
+    d.degenerate = !(lambda(0) >= params_.degeneracy_ratio * lambda(5));
+  } else {
+    result.covariance = Matrix6d::Identity() * std::numeric_limits<double>::infinity();
+  }
+  return result;
+}
+
+}  // namespace tumble

@@ -1,0 +1,129 @@
+// Weighted point-to-plane ICP against the local map (algorithm.md §3-4):
+// Gauss-Newton on SE(3), FRMSD (variable trimmed distance) outlier rejection,
+// a convergence checker, and a degeneracy report with every result.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/grid_search.hpp"
+#include "core/local_map.hpp"
+#include "core/point_cloud.hpp"
+
+namespace tumble {
+
+using Vector6d = Eigen::Matrix<double, 6, 1>;
+using Matrix6d = Eigen::Matrix<double, 6, 6>;
+
+enum class ConvergenceCriterion {
+  kAveragedIncrement,  // the authors' checker: mean of the last `window` increments below (1e-3 rad, 1e-2 m)
+  kIncrementBelow,     // the last increment below (1e-4 rad, 1e-4 m)
+};
+
+enum class MatchWeighting {
+  kInverseVariance,  // 1 / (σn_read² + σs_read² + σn_ref² + σs_ref²)  (NM, TW, VTW, GVTW)
+  kPointWeight,      // the reading point's own weight (SAW gives the weight itself)
+};
+
+enum class TrimDistance {
+  kPointToPlane,  // the squared point-to-plane residual, which the cost sees
+  kMatch,         // the squared matching (point-to-point) distance: libpointmatcher's input
+};
+
+struct IcpParams {
+  double max_match_distance_m = 1.0;
+  int match_k = 1;  // map neighbours matched per reading point (the authors used 8)
+  double frmsd_r_min = 0.5;
+  double frmsd_r_max = 0.7;
+  double frmsd_lambda = 2.35;
+  TrimDistance trim_distance = TrimDistance::kMatch;
+  // A match whose reading normal (when valid) and map normal differ by more
+  // than this is dropped (libpointmatcher's SurfaceNormalOutlierFilter): it
+  // pairs different surfaces, or a map normal blended across an edge. The test
+  // starts once the estimate has converged without it (before, its rotation
+  // error could exceed the angle), and iterating goes on until the estimate
+  // converges again with it. >= 90: off.
+  double max_normal_angle_deg = 10.0;
+  int max_iterations = 40;
+  ConvergenceCriterion convergence = ConvergenceCriterion::kAveragedIncrement;
+  double averaged_rotation_rad = 1e-3;
+  double averaged_translation_m = 1e-2;
+  int averaged_window = 2;
+  double increment_rotation_rad = 1e-4;
+  double increment_translation_m = 1e-4;
+  MatchWeighting weighting = MatchWeighting::kInverseVariance;
+  // Degenerate when the smallest eigenvalue of the (unit-balanced) normal
+  // matrix is below this fraction of the largest.
+  double degeneracy_ratio = 1e-3;
+};
+
+// The weakest direction of the last Gauss-Newton normal matrix. The rotation
+// part is scaled by length_scale_m (RMS distance of the matched points from the
+// sensor), so all six coordinates are metres of point displacement and
+// eigenvalues compare across rotation and translation.
+struct Degeneracy {
+  double min_eigenvalue = 0;       // of the scaled matrix divided by the sum of weights: in [0, 1]
+  Vector6d direction = Vector6d::Zero();  // unit, (tx, ty, tz, L·rx, L·ry, L·rz)
+  double condition_number = 0;     // largest / smallest eigenvalue (inf when singular)
+  double length_scale_m = 1;
+  bool degenerate = true;          // also true when there were too few matches
+};
+
+struct IcpResult {
+  Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
+  int iterations = 0;
+  bool converged = false;
+  std::size_t matches_considered = 0;  // within max distance, valid and agreeing normals, positive weight
+  std::size_t matches_kept = 0;        // after FRMSD
+  double inlier_ratio = 0;             // kept / considered
+  double residual_rms_m = 0;           // weighted RMS of the point-to-plane residuals kept
+  // Of the left perturbation (tx, ty, tz, rx, ry, rz) of T_wl: translation in W,
+  // rotation about the sensor origin in W axes; s²·H⁻¹ with s² the weighted
+  // residual variance. Correlated matches make it optimistic.
+  Matrix6d covariance = Matrix6d::Identity();
+  Degeneracy degeneracy;
+};
+
+struct FrmsdTrim {
+  double ratio = 0;             // kept / n
+  std::size_t kept = 0;         // the kept smallest values
+  double threshold_sq = 0;      // largest kept squared distance (keep d² <= it)
+};
+
+// Phillips' FRMSD overlap choice (libpointmatcher VarTrimmedDistOutlierFilter):
+// the k in [r_min·n, r_max·n] minimising sqrt(mean of the k smallest d²)/(k/n)^λ.
+// scratch: caller's buffer, reused.
+FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, double r_max, double lambda,
+                     std::vector<double>& scratch);
+
+class Icp {
+ public:
+  explicit Icp(const IcpParams& params = {});
+
+  // Registers `reading` (frame L, with sigmas or weights) to `map`, starting
+  // from initial_T_wl. Allocation-free once its buffers have grown.
+  IcpResult align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl);
+
+  const IcpParams& params() const { return params_; }
+
+ private:
+  struct Match {
+    Eigen::Vector3d p_w;       // reading point, transformed
+    Eigen::Vector3d q_w;       // map point
+    Eigen::Vector3d normal_w;  // map normal
+    double distance_sq;  // what FRMSD ranks (TrimDistance)
+    double weight;
+  };
+  IcpParams params_;
+  std::vector<Match> matches_;
+  std::vector<double> distances_sq_;
+  std::vector<double> scratch_;
+  std::vector<Neighbour> neighbours_;
+  std::vector<double> recent_rotation_rad_;
+  std::vector<double> recent_translation_m_;
+};
+
+}  // namespace tumble

@@ -1,0 +1,341 @@
+// See imu_fuser.hpp for the method and the choices.
+#include "core/imu_fuser.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace tumble {
+
+namespace {
+
+constexpr double kStandardGravity_m_s2 = 9.80665;
+// A direction cosine above this couples one axis into another (clip flags).
+constexpr double kAxisCoupling = 0.1;
+
+bool any(const std::array<bool, 3>& flags) { return flags[0] || flags[1] || flags[2]; }
+
+// R_WL levelled with gravity and keeping the lidar's heading: W's z is "up"
+// (up_l, in lidar coordinates), W's x is the lidar's x projected on the
+// horizontal plane (its y when x points straight up or down).
+Eigen::Quaterniond levelled_lidar_attitude(const Eigen::Vector3d& up_l) {
+  const Eigen::Vector3d z = up_l.normalized();
+  Eigen::Vector3d x = Eigen::Vector3d::UnitX() - z.x() * z;
+  if (x.norm() < 1e-6) x = Eigen::Vector3d::UnitY() - z.y() * z;
+  x.normalize();
+  Eigen::Matrix3d r_lw;  // columns: W's axes in lidar coordinates
+  r_lw.col(0) = x;
+  r_lw.col(1) = z.cross(x);
+  r_lw.col(2) = z;
+  return Eigen::Quaterniond(r_lw.transpose());
+}
+
+}  // namespace
+
+ImuFuser::ImuFuser(const ImuFuserParams& params)
+    : params_(params),
+      q_li_(Eigen::Quaterniond(params.T_li.rotation()).normalized()),
+      p_il_(-(q_li_.conjugate() * params.T_li.translation())),
+      process_noise_psd_(params.accel_noise_density_m_s2_sqrt_hz * params.accel_noise_density_m_s2_sqrt_hz +
+                         params.accel_unmodelled_m_s2 * params.accel_unmodelled_m_s2 * 1.0 /* s */),
+      madgwick_(params.madgwick, Eigen::Quaterniond::Identity(), kStandardGravity_m_s2),
+      history_(params.history_capacity),
+      trajectory_(params.trajectory_capacity, params.speed_uncertainty) {
+  if (params.history_capacity < 2) throw std::invalid_argument("ImuFuser: history_capacity must be at least 2");
+  if (!(params.static_duration_s >= 0.0)) throw std::invalid_argument("ImuFuser: static_duration_s must be >= 0");
+}
+
+Eigen::Vector3d ImuFuser::velocity_variance() const {
+  return history_.empty() ? Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity())
+                          : history_.back().state.variance;
+}
+
+Eigen::Vector3d ImuFuser::gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const {
+  return q_wi * accel_i - Eigen::Vector3d(0.0, 0.0, gravity_m_s2_);
+}
+
+void ImuFuser::integrate(KinematicState& state, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1,
+                         double dt_s) const {
+  const Eigen::Vector3d v1 = state.v_w + 0.5 * dt_s * (a0 + a1);
+  const Eigen::Vector3d mean_velocity = 0.5 * (state.v_w + v1);
+  state.p_w += dt_s * mean_velocity;
+  state.v_integral += dt_s * mean_velocity;
+  state.v_w = v1;
+  state.variance.array() += process_noise_psd_ * dt_s;
+}
+
+void ImuFuser::add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const {
+  if (!any(entry.accel_clipped)) return;
+  const Eigen::Matrix3d r_wi = entry.q_wi.toRotationMatrix();
+  const double sigma = params_.saturated_accel_sigma_m_s2 * dt_s;
+  for (int j = 0; j < 3; ++j) {
+    if (!entry.accel_clipped[static_cast<std::size_t>(j)]) continue;
+    const Eigen::Vector3d direction = r_wi.col(j);  // the clipped axis, in W
+    state.variance += sigma * sigma * direction.cwiseAbs2();
+    for (int i = 0; i < 3; ++i) {
+      if (std::abs(direction[i]) > kAxisCoupling) state.speed_unknown[static_cast<std::size_t>(i)] = true;
+    }
+  }
+}
+
+void ImuFuser::add_imu(const ImuSample& sample) {
+  if (initialized_) {
+    if (!(sample.t_s > history_.back().t_s)) {
+      ++stats_.samples_out_of_order;
+      return;
+    }
+  } else {
+    if (!(sample.t_s > last_input_t_s_)) {
+      ++stats_.samples_out_of_order;
+      return;
+    }
+    last_input_t_s_ = sample.t_s;
+    accumulate_static(sample);
+    return;
+  }
+
+  const HistoryEntry& previous = history_.back();
+  const double dt = sample.t_s - previous.t_s;
+  if (dt > params_.max_imu_gap_s) ++stats_.imu_gaps;
+
+  HistoryEntry entry;
+  entry.t_s = sample.t_s;
+  entry.accel_i = sample.accel_m_s2;
+  entry.gyro_i = sample.gyro_rad_s - gyro_bias_;
+  entry.accel_clipped = sample.accel_saturated;
+  entry.gyro_clipped = sample.gyro_saturated;
+
+  if (params_.attitude_from_device && sample.has_orientation) {
+    if (!device_alignment_) device_alignment_ = madgwick_.orientation() * sample.orientation.conjugate();
+    madgwick_.set_orientation(*device_alignment_ * sample.orientation);
+  } else if (any(entry.accel_clipped)) {
+    madgwick_.propagate(entry.gyro_i, dt);
+    ++stats_.accel_gated;
+  } else if (!madgwick_.update(entry.gyro_i, entry.accel_i, dt)) {
+    ++stats_.accel_gated;
+  }
+  entry.q_wi = madgwick_.orientation();
+  entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
+  entry.state = previous.state;
+  integrate(entry.state, previous.accel_w, entry.accel_w, dt);
+  add_clip_noise(entry.state, entry, dt);
+
+  history_.push_back(entry);
+  trajectory_.push_back(to_trajectory_sample(entry));
+  ++stats_.samples;
+  if (any(entry.gyro_clipped)) ++stats_.gyro_saturated_samples;
+  if (any(entry.accel_clipped)) ++stats_.accel_saturated_samples;
+}
+
+void ImuFuser::accumulate_static(const ImuSample& sample) {
+  const double accel_norm = sample.accel_m_s2.norm();
+  bool moving = sample.gyro_rad_s.norm() > params_.static_max_gyro_rad_s ||
+                std::abs(accel_norm - kStandardGravity_m_s2) > params_.static_accel_tolerance_m_s2 ||
+                any(sample.accel_saturated) || any(sample.gyro_saturated);
+  if (static_count_ > 0) {
+    const Eigen::Vector3d mean = static_accel_sum_ / static_cast<double>(static_count_);
+    moving = moving || (sample.accel_m_s2 - mean).norm() > params_.static_accel_tolerance_m_s2;
+  }
+  if (moving) {
+    if (static_count_ > 0) ++stats_.static_restarts;
+    static_count_ = 0;
+    static_accel_sum_.setZero();
+    static_gyro_sum_.setZero();
+    return;
+  }
+  if (static_count_ == 0) static_start_s_ = sample.t_s;
+  ++static_count_;
+  static_accel_sum_ += sample.accel_m_s2;
+  static_gyro_sum_ += sample.gyro_rad_s;
+  if (static_count_ >= 2 && sample.t_s - static_start_s_ >= params_.static_duration_s) initialize(sample);
+}
+
+void ImuFuser::initialize(const ImuSample& last_sample) {
+  const double count = static_cast<double>(static_count_);
+  const Eigen::Vector3d mean_accel = static_accel_sum_ / count;
+  gyro_bias_ = static_gyro_sum_ / count;
+  gravity_m_s2_ = mean_accel.norm();
+
+  const Eigen::Quaterniond q_wl = levelled_lidar_attitude(q_li_ * mean_accel);
+  const Eigen::Quaterniond q_wi = (q_wl * q_li_).normalized();
+  madgwick_ = MadgwickFilter(params_.madgwick, q_wi, gravity_m_s2_);
+  if (params_.attitude_from_device && last_sample.has_orientation) {
+    device_alignment_ = q_wi * last_sample.orientation.conjugate();
+  }
+
+  HistoryEntry entry;
+  entry.t_s = last_sample.t_s;
+  entry.accel_i = last_sample.accel_m_s2;
+  entry.gyro_i = last_sample.gyro_rad_s - gyro_bias_;
+  entry.q_wi = q_wi;
+  entry.accel_w = gravity_free_accel(q_wi, entry.accel_i);
+  entry.state.p_w = q_wl * params_.T_li.translation();  // the lidar is at W's origin
+  entry.state.variance.setConstant(params_.initial_velocity_sigma_m_s * params_.initial_velocity_sigma_m_s);
+  history_.push_back(entry);
+  trajectory_.push_back(to_trajectory_sample(entry));
+  initialized_ = true;
+}
+
+std::size_t ImuFuser::entry_before(double t_s) const {
+  std::size_t lo = 0, hi = history_.size() - 1;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo + 1) / 2;
+    if (history_[mid].t_s < t_s) {
+      lo = mid;
+    } else {
+      hi = mid - 1;
+    }
+  }
+  return lo;
+}
+
+ImuFuser::KinematicState ImuFuser::state_at(double t_s) const {
+  if (t_s <= history_.front().t_s) return history_.front().state;
+  const std::size_t j = entry_before(t_s);
+  KinematicState state = history_[j].state;
+  if (j + 1 < history_.size()) {
+    const HistoryEntry& a = history_[j];
+    const HistoryEntry& b = history_[j + 1];
+    const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
+    integrate(state, a.accel_w, a.accel_w + u * (b.accel_w - a.accel_w), t_s - a.t_s);
+  }
+  return state;
+}
+
+Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
+  if (t_s <= history_.front().t_s) return history_.front().q_wi;
+  const std::size_t j = entry_before(t_s);
+  if (j + 1 >= history_.size()) return history_[j].q_wi;
+  const HistoryEntry& a = history_[j];
+  const HistoryEntry& b = history_[j + 1];
+  return a.q_wi.slerp((t_s - a.t_s) / (b.t_s - a.t_s), b.q_wi);
+}
+
+CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
+                                                        double position_sigma_m) {
+  CorrectionResult result;
+  if (!initialized_) {
+    ++stats_.corrections_before_init;
+    return result;
+  }
+  if (!(t_scan_start_s > history_.front().t_s && t_scan_start_s <= history_.back().t_s)) {
+    ++stats_.corrections_outside_history;
+    return result;
+  }
+
+  const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized();
+  PoseReset reset;
+  reset.t_s = t_scan_start_s;
+  reset.correction = (q_wi_registered * attitude_at(t_scan_start_s).conjugate()).normalized();
+  reset.q_wi = q_wi_registered;
+  reset.p_wi = T_wl * params_.T_li.translation();
+
+  std::optional<VelocityMeasurement> velocity;
+  if (previous_registration_) {
+    const RegisteredPose& previous = *previous_registration_;
+    const double dt = t_scan_start_s - previous.t_s;
+    if (dt <= 0.0 || dt > params_.max_lidar_interval_s || previous.t_s < history_.front().t_s) {
+      ++stats_.velocity_updates_skipped;
+    } else {
+      const Eigen::Vector3d lidar_mean = (reset.p_wi - previous.p_wi) / dt;
+      const Eigen::Vector3d filter_mean =
+          (state_at(t_scan_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
+      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
+                                     (position_sigma_m * position_sigma_m + previous.sigma_m * previous.sigma_m) /
+                                         (dt * dt)};
+    }
+  }
+
+  const double t_first_event = velocity ? velocity->t_s : reset.t_s;
+  result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
+  repropagate(velocity, reset);
+  previous_registration_ = RegisteredPose{t_scan_start_s, reset.p_wi, position_sigma_m};
+
+  result.pose_reset = true;
+  result.velocity_updated = velocity.has_value();
+  ++stats_.pose_corrections;
+  if (velocity) ++stats_.velocity_updates;
+  return result;
+}
+
+void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset) {
+  const double t_first_event = velocity ? velocity->t_s : reset.t_s;
+  const std::size_t base = entry_before(t_first_event);
+  KinematicState state = history_[base].state;
+  double t = history_[base].t_s;
+  Eigen::Vector3d accel_at_t = history_[base].accel_w;
+  bool velocity_pending = velocity.has_value();
+  bool reset_pending = true;
+  trajectory_.truncate_after(t);
+
+  for (std::size_t n = base + 1; n < history_.size(); ++n) {
+    HistoryEntry& entry = history_[n];
+    const double t_previous = t;
+    const Eigen::Vector3d accel_previous = accel_at_t;
+    if (entry.t_s >= reset.t_s) {
+      entry.q_wi = (reset.correction * entry.q_wi).normalized();
+      entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
+    }
+    // Advances the state to an event time inside (t_previous, entry.t_s].
+    auto advance_to = [&](double t_event) {
+      const double u = (t_event - t_previous) / (entry.t_s - t_previous);
+      const Eigen::Vector3d accel_event = accel_previous + u * (entry.accel_w - accel_previous);
+      integrate(state, accel_at_t, accel_event, t_event - t);
+      t = t_event;
+      accel_at_t = accel_event;
+    };
+    if (velocity_pending && velocity->t_s <= entry.t_s) {
+      advance_to(velocity->t_s);
+      for (int i = 0; i < 3; ++i) {
+        const double total = state.variance[i] + velocity->noise_variance;
+        const double gain = total > 0.0 ? state.variance[i] / total : 0.0;
+        state.v_w[i] += gain * velocity->innovation[i];
+        state.variance[i] *= 1.0 - gain;
+      }
+      state.speed_unknown = {};
+      velocity_pending = false;
+    }
+    if (reset_pending && reset.t_s <= entry.t_s) {
+      advance_to(reset.t_s);
+      state.p_w = reset.p_wi;
+      reset_pending = false;
+      if (reset.t_s < entry.t_s) {  // the registered pose itself, between two IMU samples
+        HistoryEntry anchor = entry;
+        anchor.t_s = reset.t_s;
+        anchor.q_wi = reset.q_wi;
+        anchor.state = state;
+        trajectory_.push_back(to_trajectory_sample(anchor));
+      }
+    }
+    advance_to(entry.t_s);
+    add_clip_noise(state, entry, entry.t_s - t_previous);
+    entry.state = state;
+    trajectory_.push_back(to_trajectory_sample(entry));
+  }
+
+  madgwick_.set_orientation(history_.back().q_wi);
+  if (device_alignment_) device_alignment_ = (reset.correction * *device_alignment_).normalized();
+}
+
+TrajectorySample ImuFuser::to_trajectory_sample(const HistoryEntry& entry) const {
+  TrajectorySample sample;
+  sample.t_s = entry.t_s;
+  sample.q_wl = (entry.q_wi * q_li_.conjugate()).normalized();
+  sample.p_w = entry.state.p_w + entry.q_wi * p_il_;
+  sample.v_w = entry.state.v_w + entry.q_wi * entry.gyro_i.cross(p_il_);
+  sample.omega_l = q_li_ * entry.gyro_i;
+
+  const Eigen::Matrix3d r_li = q_li_.toRotationMatrix();
+  const Eigen::Matrix3d r_wl = sample.q_wl.toRotationMatrix();
+  for (std::size_t k = 0; k < 3; ++k) {
+    for (std::size_t j = 0; j < 3; ++j) {
+      const auto row = static_cast<Eigen::Index>(k), col = static_cast<Eigen::Index>(j);
+      if (entry.gyro_clipped[j] && std::abs(r_li(row, col)) > kAxisCoupling) sample.gyro_saturated[k] = true;
+      // r_wl(j, k): lidar axis k along W axis j.
+      if (entry.state.speed_unknown[j] && std::abs(r_wl(col, row)) > kAxisCoupling) sample.accel_saturated[k] = true;
+    }
+    sample.saturated[k] = sample.gyro_saturated[k] || sample.accel_saturated[k];
+  }
+  return sample;
+}
+
+}  // namespace tumble

@@ -1,0 +1,218 @@
+// The 100 Hz fuser (paper §III-B, algorithm.md §1): IMU samples in, the lidar
+// trajectory T_WL(t) out, re-anchored by the 10 Hz registration.
+//
+// Frames. W: the lidar frame at initialisation, levelled with gravity (z up,
+// the lidar's heading kept, origin at the lidar). I: the IMU. L: the lidar.
+// T_LI (config) maps IMU coordinates into the lidar frame; the fuser tracks
+// the IMU and outputs the LIDAR: p_WL = p_WI + R_WI p_IL, and the lever arm
+// gives v_WL = v_WI + R_WI (ω_I × p_IL).
+//
+// 1. Initialisation: waits for `static_duration_s` of samples that look
+//    static (gyro and accelerometer steady; any motion restarts the window).
+//    The mean accelerometer gives the gravity direction (→ roll, pitch; yaw 0)
+//    and the gravity magnitude the filter will subtract; the mean gyro is the
+//    gyro bias.
+// 2. Attitude: Madgwick (gyro + gated accelerometer) at every sample, or the
+//    device's own orientation when `attitude_from_device` (aligned to W once,
+//    at the first sample that carries one).
+// 3. Velocity: a linear Kalman filter per W axis: state v, input the
+//    gravity-free acceleration a_W = R_WI f + g (trapezoid), process noise
+//    PSD = accel_noise_density² + accel_unmodelled² · 1 s. The second term is
+//    ours: a filter whose only state is v cannot estimate the slowly varying
+//    errors (gravity leaked through a 0.6° attitude error is 0.1 m/s²); with
+//    the datasheet density alone (60 µg/√Hz) it would trust the IMU ~10⁴×
+//    more than the lidar and never remove a drift.
+//    Measurement: the lidar's mean velocity over the last scan interval,
+//    (p_k − p_{k−1}) / (t_k − t_{k−1}) from the last two registered poses,
+//    applied at its true time, the middle of the interval t_m, by
+//    re-propagating the buffered samples since t_m. Our refinement: the
+//    innovation is the lidar mean minus the FILTER's mean over the same
+//    interval (not minus v(t_m)); both are equal under constant acceleration,
+//    but a shock inside the interval makes v(t_m) differ from the mean by
+//    metres per second while the filter's error is still linear. Noise: the
+//    two poses' position sigmas, R = (σ_k² + σ_{k−1}²) / Δt².
+// 4. Position: the fused velocity integrated (trapezoid) at the IMU rate.
+// 5. Pose correction: the registered pose is more accurate than integration,
+//    so the fuser is re-anchored at the scan start t_k: position set to the
+//    registered one there, attitude rotated by ΔR = R_reg(t_k) R_fused(t_k)⁻¹
+//    for every sample after t_k (the gyro's relative rotation is kept) and
+//    the velocity after t_k re-integrated with the corrected attitude. The
+//    trajectory gets a sample at t_k itself, so it passes exactly through the
+//    registered pose there (a later re-propagation that starts before t_k
+//    rebuilds from the IMU samples and drops it; that scan is registered by
+//    then); the only discontinuity is in the IMU interval that ends at t_k,
+//    before the start of a scan that is already registered.
+//    Every later scan starts after t_k, and de-skewing uses only the motion
+//    within a scan, so it never sees a jump.
+// 6. Saturation: the fuser integrates clipped values (nothing better is
+//    known) and flags them through to the samples: gyro clipping per lidar
+//    axis for that sample; accelerometer clipping adds process noise
+//    (saturated_accel_sigma along the clipped axis in W) and marks the W axes
+//    it touches as "speed unknown" until the next lidar velocity update.
+//    "Touches" = a direction cosine above 0.1 (the IMU→lidar and W→lidar
+//    axis mappings use the same threshold).
+//
+// Bounded: the IMU history is a fixed ring (`history_capacity` samples, a few
+// seconds at up to 1 kHz) and so is the output trajectory. No allocation per
+// sample or per correction after construction.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <limits>
+#include <optional>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "core/madgwick.hpp"
+#include "core/ring_buffer.hpp"
+#include "core/speed_uncertainty.hpp"
+#include "core/trajectory.hpp"
+#include "core/types.hpp"
+
+namespace tumble {
+
+struct ImuFuserParams {
+  // x_L = T_li · x_I: the IMU's pose in the lidar frame (extrinsic).
+  Eigen::Isometry3d T_li = Eigen::Isometry3d::Identity();
+
+  double static_duration_s = 1.0;
+  double static_max_gyro_rad_s = 0.1;           // ‖ω‖ above this is motion
+  double static_accel_tolerance_m_s2 = 0.5;     // ‖a − window mean‖ or |‖a‖ − 9.80665| above: motion
+
+  MadgwickParams madgwick;
+  bool attitude_from_device = false;
+
+  double accel_noise_density_m_s2_sqrt_hz = 60e-6 * 9.80665;  // MTi-30 datasheet
+  double accel_unmodelled_m_s2 = 0.1;
+  double saturated_accel_sigma_m_s2 = 100.0;    // how far beyond the range a clipped axis may be
+  double initial_velocity_sigma_m_s = 0.01;     // after the static period
+  double max_lidar_interval_s = 0.5;            // longer scan gaps give no velocity measurement
+  double max_imu_gap_s = 0.1;                   // longer sample gaps are integrated but counted
+
+  std::size_t history_capacity = 4096;
+  std::size_t trajectory_capacity = 4096;
+  SpeedUncertaintyParams speed_uncertainty;
+};
+
+struct ImuFuserStats {
+  std::uint64_t samples = 0;                     // accepted, after initialisation
+  std::uint64_t samples_out_of_order = 0;        // t not after the previous sample: dropped
+  std::uint64_t imu_gaps = 0;                    // dt > max_imu_gap_s
+  std::uint64_t static_restarts = 0;             // motion during the static window
+  std::uint64_t accel_gated = 0;                 // Madgwick correction skipped (gate or clipping)
+  std::uint64_t gyro_saturated_samples = 0;
+  std::uint64_t accel_saturated_samples = 0;
+  std::uint64_t pose_corrections = 0;
+  std::uint64_t velocity_updates = 0;
+  std::uint64_t corrections_before_init = 0;     // rejected
+  std::uint64_t corrections_outside_history = 0; // rejected: t older than the history or newer than the IMU
+  std::uint64_t velocity_updates_skipped = 0;    // interval too long, non-positive, or older than the history
+};
+
+struct CorrectionResult {
+  bool pose_reset = false;
+  bool velocity_updated = false;
+  // Trajectory samples after this time were rewritten (NaN: nothing changed).
+  double rewritten_after_s = std::numeric_limits<double>::quiet_NaN();
+};
+
+class ImuFuser {
+ public:
+  explicit ImuFuser(const ImuFuserParams& params);
+
+  // One IMU sample (times must increase; others are dropped and counted).
+  void add_imu(const ImuSample& sample);
+
+  // The registration's result for the scan starting at t_scan_start_s: the
+  // lidar pose T_WL there and its position sigma (the registration's residual
+  // mapped to a pose uncertainty, m). Feeds the velocity filter with the mean
+  // velocity since the previous registered pose and re-anchors the trajectory
+  // (see the header). Call in scan order, after the IMU data covers
+  // t_scan_start_s (the pipeline needs that to de-skew anyway).
+  CorrectionResult correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
+                                                double position_sigma_m);
+
+  bool initialized() const { return initialized_; }
+  const Trajectory& trajectory() const { return trajectory_; }
+  const ImuFuserStats& stats() const { return stats_; }
+  const Eigen::Vector3d& gyro_bias_rad_s() const { return gyro_bias_; }
+  double gravity_m_s2() const { return gravity_m_s2_; }
+  // Of the newest state: velocity variance per W axis ((m/s)²), for the odometry message.
+  Eigen::Vector3d velocity_variance() const;
+
+ private:
+  struct KinematicState {
+    Eigen::Vector3d v_w = Eigen::Vector3d::Zero();        // IMU velocity
+    Eigen::Vector3d p_w = Eigen::Vector3d::Zero();        // IMU position
+    Eigen::Vector3d v_integral = Eigen::Vector3d::Zero(); // ∫v dt (unaffected by position resets)
+    Eigen::Vector3d variance = Eigen::Vector3d::Zero();   // of v, per W axis
+    std::array<bool, 3> speed_unknown{};                  // per W axis, since an accelerometer clip
+  };
+  struct HistoryEntry {
+    double t_s = 0.0;
+    Eigen::Vector3d accel_i = Eigen::Vector3d::Zero();    // specific force as measured
+    Eigen::Vector3d gyro_i = Eigen::Vector3d::Zero();     // bias removed
+    std::array<bool, 3> accel_clipped{};
+    std::array<bool, 3> gyro_clipped{};
+    Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();
+    Eigen::Vector3d accel_w = Eigen::Vector3d::Zero();    // gravity-free, in W
+    KinematicState state;
+  };
+  struct VelocityMeasurement {
+    double t_s = 0.0;
+    Eigen::Vector3d innovation = Eigen::Vector3d::Zero();
+    double noise_variance = 0.0;
+  };
+  struct PoseReset {
+    double t_s = 0.0;
+    Eigen::Quaterniond correction = Eigen::Quaterniond::Identity();  // ΔR
+    Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();        // registered
+    Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
+  };
+
+  void accumulate_static(const ImuSample& sample);
+  void initialize(const ImuSample& last_sample);
+  Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
+  void integrate(KinematicState& state, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, double dt_s) const;
+  void add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const;
+  // Index of the last history entry with t < t_s (requires t_s > the oldest).
+  std::size_t entry_before(double t_s) const;
+  KinematicState state_at(double t_s) const;
+  Eigen::Quaterniond attitude_at(double t_s) const;
+  void repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset);
+  TrajectorySample to_trajectory_sample(const HistoryEntry& entry) const;
+
+  ImuFuserParams params_;
+  Eigen::Quaterniond q_li_;
+  Eigen::Vector3d p_il_;  // lidar origin in the IMU frame
+  double process_noise_psd_;
+
+  // Static window.
+  double last_input_t_s_ = -std::numeric_limits<double>::infinity();
+  double static_start_s_ = 0.0;
+  std::size_t static_count_ = 0;
+  Eigen::Vector3d static_accel_sum_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d static_gyro_sum_ = Eigen::Vector3d::Zero();
+
+  bool initialized_ = false;
+  double gravity_m_s2_ = 9.80665;
+  Eigen::Vector3d gyro_bias_ = Eigen::Vector3d::Zero();
+  MadgwickFilter madgwick_;
+  std::optional<Eigen::Quaterniond> device_alignment_;  // q_W←device frame
+
+  RingBuffer<HistoryEntry> history_;
+  Trajectory trajectory_;
+
+  struct RegisteredPose {
+    double t_s = 0.0;
+    Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
+    double sigma_m = 0.0;
+  };
+  std::optional<RegisteredPose> previous_registration_;
+  ImuFuserStats stats_;
+};
+
+}  // namespace tumble

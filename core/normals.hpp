@@ -1,0 +1,124 @@
+// Surface normals and curvature by PCA over a point's k nearest neighbours
+// (algorithm.md §4: k ≈ 15 for the reading, ≈ 20 for the map; GVTW needs the
+// normal, SAW the curvature, point-to-plane ICP the map's normals).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/grid_search.hpp"
+#include "core/point_cloud.hpp"
+#include "core/point_grid.hpp"
+
+namespace tumble {
+
+struct NormalParams {
+  int k = 15;                  // neighbours, the point itself included
+  double max_radius_m = 1.0;   // neighbours farther away are not used
+  double grid_cell_m = 0.25;   // cell of the search grid (speed only, not the result)
+  // Smallest middle/largest eigenvalue ratio for a plane: below it the
+  // neighbourhood is a line (one lidar ring) and its "normal" is arbitrary.
+  double min_planarity = 0.01;
+  // Smallest |cos| between the normal and the line of sight. One lidar ring
+  // alone (sparse 16-beam scans: the floor far away, a ring crossing a corner)
+  // fits a tangent plane of the ring's cone, which contains the line of sight:
+  // such a "plane" is an artefact of the scan pattern, not a surface.
+  double min_cos_incidence = 0.087;  // cos 85°
+  // Largest curvature (λ0 / Σλ) of a usable fit: above it the neighbourhood
+  // straddles an edge and its normal is a blend of two surfaces.
+  double max_curvature = 0.1;
+  // A line-like neighbourhood is refitted once with this many neighbours (0:
+  // never): on a 16-beam lidar the floor's rings are metres apart at range,
+  // so k ≈ 20 neighbours lie on one ring; a wider neighbourhood reaches the
+  // next ring and sees the surface.
+  int line_retry_k = 80;
+  // Neighbours needed from scan lines (lidar ring of one scan) other than the
+  // query's own. One ring alone lies on the ring's cone: across a corner it
+  // fits a plane that is no surface, and grazing tests cannot always tell.
+  // 0 disables the test (clouds that are not lidar scans).
+  int min_other_line_neighbours = 3;
+};
+
+struct PlaneFit {
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // unit
+  double curvature = 0;  // smallest eigenvalue / sum of eigenvalues, in [0, 1/3]
+  bool valid = false;    // false: fewer than 3 points, a line, an edge, grazing
+  bool line_like = false;  // the neighbourhood spans a line, not a surface
+};
+
+// Accumulates a neighbourhood's first and second moments relative to an origin
+// near the points (the query), which keeps the covariance exact far from (0,0,0).
+class CovarianceAccumulator {
+ public:
+  explicit CovarianceAccumulator(const Eigen::Vector3d& origin) : origin_(origin) {}
+  void add(const Eigen::Vector3d& p) {
+    const Eigen::Vector3d d = p - origin_;
+    sum_ += d;
+    sum_outer_.noalias() += d * d.transpose();
+    ++count_;
+  }
+  int count() const { return count_; }
+
+  // The best plane through the points; the normal is flipped to point toward
+  // `viewpoint` (the sensor) and is the beam direction when the fit is invalid.
+  PlaneFit fit(const Eigen::Vector3d& viewpoint, const NormalParams& limits) const;
+
+ private:
+  Eigen::Vector3d origin_;
+  Eigen::Vector3d sum_ = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d sum_outer_ = Eigen::Matrix3d::Zero();
+  int count_ = 0;
+};
+
+// Normals for every point of a cloud from its neighbours in the same cloud.
+class NormalEstimator {
+ public:
+  explicit NormalEstimator(const NormalParams& params = {});
+
+  // The plane through the up to `k` (or line_retry_k) nearest neighbours of
+  // query found by knn(query, max_radius, span) -> count, indices resolved by
+  // position(index) and line(index) (the scan line of that neighbour; the
+  // query's is query_line). Shared by the reading and the map.
+  template <class Knn, class Position, class Line>
+  static PlaneFit fit_neighbourhood(const Eigen::Vector3d& query, std::uint32_t query_line,
+                                    const Eigen::Vector3d& viewpoint, const NormalParams& params,
+                                    std::vector<Neighbour>& buffer, Knn&& knn, Position&& position, Line&& line) {
+    auto fit_k = [&](int k) {
+      buffer.resize(static_cast<std::size_t>(k));
+      const std::size_t found = knn(query, params.max_radius_m, std::span<Neighbour>(buffer));
+      CovarianceAccumulator acc(query);
+      int other_lines = 0;
+      for (std::size_t j = 0; j < found; ++j) {
+        acc.add(position(buffer[j].index));
+        if (line(buffer[j].index) != query_line) ++other_lines;
+      }
+      PlaneFit fit = acc.fit(viewpoint, params);
+      if (other_lines < params.min_other_line_neighbours) {
+        fit.valid = false;
+        fit.line_like = true;
+        const Eigen::Vector3d to_sensor = viewpoint - query;
+        if (to_sensor.norm() > 0) fit.normal = to_sensor.normalized();
+      }
+      return fit;
+    };
+    PlaneFit fit = fit_k(params.k);
+    if (fit.line_like && params.line_retry_k > params.k) fit = fit_k(params.line_retry_k);
+    return fit;
+  }
+
+  // Fills cloud.normals, curvatures and normal_valid; a point's scan line is
+  // its ring (cloud.rings). viewpoint: the sensor position in the cloud's
+  // frame. Buffers are kept between calls.
+  void estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint);
+
+  const NormalParams& params() const { return params_; }
+
+ private:
+  NormalParams params_;
+  PointGrid grid_;
+  std::vector<Neighbour> neighbours_;
+};
+
+}  // namespace tumble

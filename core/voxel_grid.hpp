@@ -1,0 +1,34 @@
+// Voxel-grid down-sampling (algorithm.md §4): one representative per occupied
+// cell, the point nearest the cell's centre, with all its attributes (time,
+// sigmas, weight) so the weight models still see the original point.
+#pragma once
+
+#include <tsl/robin_map.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "core/grid_search.hpp"
+#include "core/point_cloud.hpp"
+
+namespace tumble {
+
+class VoxelDownsampler {
+ public:
+  explicit VoxelDownsampler(double voxel_size_m = 0.05);
+
+  // out = the representatives, in the order their cells are first met in `in`
+  // (deterministic for a given input); ties go to the earlier point. `out` may
+  // not alias `in`. Buffers are kept between calls.
+  void apply(const PointCloud& in, PointCloud& out);
+
+  double voxel_size_m() const { return voxel_size_m_; }
+
+ private:
+  double voxel_size_m_;
+  tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
+  std::vector<std::uint32_t> best_index_;  // per slot: index in `in`
+  std::vector<double> best_distance_sq_;   // per slot: its distance to the centre
+};
+
+}  // namespace tumble

@@ -1,0 +1,63 @@
+#include "daemon/health_state.hpp"
+
+namespace tumble::daemon {
+
+std::string_view to_string(HealthState state) {
+  switch (state) {
+    case HealthState::WaitingForSensors:
+      return "waiting_for_sensors";
+    case HealthState::Initialising:
+      return "initialising";
+    case HealthState::Tracking:
+      return "tracking";
+    case HealthState::Degraded:
+      return "degraded";
+    case HealthState::Lost:
+      return "lost";
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::string_view stale_sensor(const HealthInputs& in) {
+  if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
+  if (!in.imu_fresh) return "no IMU data";
+  if (!in.lidar_fresh) return "no lidar data";
+  return {};
+}
+
+}  // namespace
+
+HealthTransition next_health_state(HealthState current, double time_in_state_s, const HealthInputs& in,
+                                   const HealthLimits& limits) {
+  const std::string_view stale = stale_sensor(in);
+  const bool fresh = stale.empty();
+  using S = HealthState;
+  if ((current == S::Tracking || current == S::Degraded || current == S::Lost) && !in.fuser_initialised)
+    return {fresh ? S::Initialising : S::WaitingForSensors, "odometry re-initialising"};
+  switch (current) {
+    case S::WaitingForSensors:
+      if (fresh) return {S::Initialising, "IMU and lidar data arriving"};
+      break;
+    case S::Initialising:
+      if (!fresh) return {S::WaitingForSensors, stale};
+      if (in.fuser_initialised && in.consecutive_good_scans >= 1) return {S::Tracking, "first scan registered"};
+      break;
+    case S::Tracking:
+      if (!fresh) return {S::Degraded, stale};
+      if (in.bad_scans_in_period > 0) return {S::Degraded, "poor scan registration"};
+      if (in.data_dropped) return {S::Degraded, "data dropped"};
+      break;
+    case S::Degraded:
+      if (fresh && !in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
+        return {S::Tracking, "registration good again"};
+      if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
+      break;
+    case S::Lost:
+      break;
+  }
+  return {current, {}};
+}
+
+}  // namespace tumble::daemon

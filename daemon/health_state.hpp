@@ -1,0 +1,53 @@
+// tumbled's health state machine, evaluated once per status period.
+//
+//   WAITING_FOR_SENSORS --both sensors fresh--> INITIALISING
+//   INITIALISING --a sensor stale--> WAITING_FOR_SENSORS
+//   INITIALISING --fuser initialised and a good scan registered--> TRACKING
+//   TRACKING --a sensor stale, a bad scan, or data dropped--> DEGRADED
+//   DEGRADED --sensors fresh, nothing dropped, good_scans_to_recover
+//              consecutive good scans--> TRACKING
+//   DEGRADED --degraded for degraded_to_lost_s--> LOST
+//   TRACKING, DEGRADED, LOST --fuser no longer initialised (the odometry
+//              was reset)--> INITIALISING (or WAITING_FOR_SENSORS if a sensor is stale)
+//
+// LOST is otherwise sticky: a pose after losing track is not consistent with
+// the poses before it, so only a re-initialisation clears it.
+// "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
+// converged, inlier ratio >= min_inlier_ratio, degeneracy >= min_degeneracy.
+// "Data dropped": a ring dropped items or a scan was discarded in the period.
+#pragma once
+
+#include <cstdint>
+#include <string_view>
+
+namespace tumble::daemon {
+
+// Values equal tumble::status_t::STATE_*.
+enum class HealthState : std::int8_t { WaitingForSensors = 0, Initialising = 1, Tracking = 2, Degraded = 3, Lost = 4 };
+
+std::string_view to_string(HealthState state);  // waiting_for_sensors, initialising, ...
+
+struct HealthInputs {
+  bool imu_fresh = false;
+  bool lidar_fresh = false;
+  bool fuser_initialised = false;
+  int bad_scans_in_period = 0;
+  int consecutive_good_scans = 0;  // ending with the newest scan
+  bool data_dropped = false;
+};
+
+struct HealthLimits {
+  double degraded_to_lost_s = 3.0;
+  int good_scans_to_recover = 5;
+};
+
+struct HealthTransition {
+  HealthState state;
+  std::string_view reason;  // empty when the state does not change
+};
+
+// The next state, given the current one and how long it has lasted.
+HealthTransition next_health_state(HealthState current, double time_in_state_s, const HealthInputs& in,
+                                   const HealthLimits& limits);
+
+}  // namespace tumble::daemon

@@ -1,0 +1,59 @@
+// tumbled: parse the command line and configuration, then run the daemon.
+// Exit codes: 0 clean stop, 1 runtime failure, 2 bad configuration or command line.
+#include <fmt/format.h>
+#include <spdlog/spdlog.h>
+
+#include <csignal>
+#include <exception>
+#include <string>
+#include <vector>
+
+#include "daemon/command_line.hpp"
+#include "daemon/config.hpp"
+#include "daemon/logging.hpp"
+#include "daemon/main_loop.hpp"
+#include "daemon/run.hpp"
+
+int main(int argc, char** argv) {
+  using namespace tumble::daemon;
+  std::signal(SIGPIPE, SIG_IGN);  // a closed socket is an error return, not a reason to die
+
+  CommandLine command_line;
+  DaemonConfig config;
+  try {
+    command_line = parse_command_line(std::vector<std::string>(argv, argv + argc));
+    if (!command_line.help.empty()) {
+      fmt::print("{}", command_line.help);
+      return 0;
+    }
+    config = effective_config(command_line);
+  } catch (const UsageError& e) {
+    fmt::print(stderr, "tumbled: {} (see tumbled --help)\n", e.what());
+    return 2;
+  } catch (const ConfigError& e) {
+    fmt::print(stderr, "tumbled: {}\n", e.what());
+    return 2;
+  }
+  if (command_line.print_config) {
+    fmt::print("{}", to_yaml(config));
+    return 0;
+  }
+
+  configure_logging(config.daemon.log_level);
+  try {
+    ShutdownSignals signals;  // before any thread starts, so every thread inherits the mask
+    lcm::LCM lcm(config.lcm.url);
+    if (!lcm.good()) {
+      spdlog::error("lcm.url: LCM cannot start on {}", config.lcm.url);
+      return 1;
+    }
+    // The drivers and the core plug in here (daemon/seams.hpp).
+    const PartsFactory make_parts = [](boost::asio::io_context&, const DaemonConfig&, const RunOptions&) {
+      return PipelineParts{};
+    };
+    return run_daemon(config, run_options(command_line), lcm, signals, make_parts);
+  } catch (const std::exception& e) {
+    spdlog::critical("{}", e.what());
+    return 1;
+  }
+}

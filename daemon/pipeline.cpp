@@ -1,0 +1,352 @@
+#include "daemon/pipeline.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/post.hpp>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+#include "daemon/thread_setup.hpp"
+
+namespace tumble::daemon {
+
+namespace {
+
+constexpr auto kIdleWait = std::chrono::milliseconds(50);  // bounds how stale a heartbeat can get
+constexpr auto kRoomPoll = std::chrono::microseconds(100);
+
+std::int64_t steady_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+std::size_t capacity(int configured) { return static_cast<std::size_t>(configured); }
+
+}  // namespace
+
+Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy)
+    : policy_(policy),
+      publish_scan_(config.lcm.publish_scan),
+      realtime_priority_(config.daemon.realtime_priority),
+      trajectory_wait_ns_(std::llround(config.daemon.trajectory_wait_s * 1e9)),
+      imu_(capacity(config.daemon.imu_ring_capacity)),
+      lidar_(capacity(config.daemon.lidar_ring_capacity)),
+      corrections_(capacity(config.daemon.correction_ring_capacity)),
+      odometry_(capacity(config.daemon.odometry_ring_capacity)),
+      registrations_(capacity(config.daemon.registration_ring_capacity)),
+      scan_reports_(capacity(config.daemon.scan_report_ring_capacity)),
+      trajectory_(capacity(config.daemon.trajectory_buffer_capacity)),
+      window_(capacity(config.daemon.trajectory_buffer_capacity)) {}
+
+Pipeline::~Pipeline() { stop(Drain::No); }
+
+PublisherInputs Pipeline::publisher_inputs() {
+  return {&odometry_, &registrations_, &status_, publish_scan_ ? &scans_ : nullptr};
+}
+
+std::vector<NamedRing> Pipeline::rings() const {
+  return {{"imu", &imu_, true},
+          {"lidar", &lidar_, true},
+          {"corrections", &corrections_, true},
+          {"odometry_out", &odometry_, false},
+          {"registration_out", &registrations_, false},
+          {"scan_reports", &scan_reports_, false}};
+}
+
+std::optional<std::string> Pipeline::failure() const {
+  if (!failed_.load(std::memory_order_acquire)) return std::nullopt;
+  return failure_;
+}
+
+void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
+  if (parts.lidar_source && (!parts.lidar_decoder || !parts.registration))
+    throw std::invalid_argument("a lidar source needs a lidar decoder and a registration stage");
+  if (parts.imu_source && (!parts.imu_decoder || !parts.fuser))
+    throw std::invalid_argument("an IMU source needs an IMU decoder and a fuser stage");
+  parts_ = std::move(parts);
+  wake_main_ = std::move(wake_main);
+  imu_input_ended_.store(!parts_.imu_source, std::memory_order_release);
+
+  if (parts_.fuser) start_thread(fuser_thread_, "tumble-fuser", &Pipeline::run_fuser);
+  if (parts_.registration) start_thread(registration_thread_, "tumble-register", &Pipeline::run_registration);
+  if (!parts_.lidar_source && !parts_.imu_source) return;
+
+  emit_imu_ = [this](const ImuSample& sample) {
+    push(imu_, sample);
+    fuser_wakeup_.notify();
+  };
+  io_work_.emplace(io_.get_executor());
+  io_heartbeat_timer_.emplace(io_);
+  boost::asio::post(io_, [this] {
+    beat_io();
+    if (parts_.lidar_source) {
+      ++sources_running_;
+      parts_.lidar_source->start([this](const LidarDatagram& d) { on_lidar_datagram(d); }, [this] { on_source_end(); });
+    }
+    if (parts_.imu_source) {
+      ++sources_running_;
+      parts_.imu_source->start([this](const ImuBytes& b) { on_imu_bytes(b); },
+                               [this] {
+                                 imu_input_ended_.store(true, std::memory_order_release);
+                                 registration_wakeup_.notify();
+                                 on_source_end();
+                               });
+    }
+  });
+  start_thread(io_thread_, "tumble-io", &Pipeline::run_io);
+}
+
+void Pipeline::start_thread(std::thread& thread, const char* name, void (Pipeline::*body)()) {
+  thread = std::thread([this, name, body] {
+    name_this_thread(name);
+    if (const std::string error = set_realtime_priority(realtime_priority_); !error.empty())
+      spdlog::warn("{}: {}", name, error);
+    try {
+      (this->*body)();
+    } catch (const std::exception& e) {
+      fail(std::string(name) + ": " + e.what());
+    }
+  });
+}
+
+void Pipeline::fail(std::string message) {
+  bool expected = false;
+  if (!failing_.compare_exchange_strong(expected, true)) return;  // keep the first failure
+  failure_ = std::move(message);
+  failed_.store(true, std::memory_order_release);
+  if (wake_main_) wake_main_();
+}
+
+// ---- io thread ----------------------------------------------------------------
+
+void Pipeline::run_io() { io_.run(); }
+
+void Pipeline::beat_io() {
+  io_heartbeat_.fetch_add(1, std::memory_order_relaxed);
+  io_heartbeat_timer_->expires_after(kIdleWait);
+  io_heartbeat_timer_->async_wait([this](const boost::system::error_code& error) {
+    if (!error) beat_io();
+  });
+}
+
+template <class T>
+void Pipeline::wait_for_room(SpscRing<T>& ring, std::atomic<bool>* blocked) {
+  if (policy_ != OverflowPolicy::Wait || !ring.full()) return;
+  if (blocked != nullptr) {
+    blocked->store(true, std::memory_order_release);
+    registration_wakeup_.notify();  // the registration thread may be waiting on exactly this
+  }
+  while (ring.full() && !abandon_.load(std::memory_order_acquire)) std::this_thread::sleep_for(kRoomPoll);
+  if (blocked != nullptr) blocked->store(false, std::memory_order_release);
+}
+
+template <class T>
+void Pipeline::push(SpscRing<T>& ring, const T& item) {
+  wait_for_room(ring, nullptr);
+  ring.push(item);
+}
+
+void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
+  counters_.last_lidar_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
+  if (parts_.recorder) parts_.recorder->record_lidar(datagram);
+  wait_for_room(lidar_, &io_blocked_on_lidar_);
+  const bool has_points =
+      lidar_.push_if([&](PointBlock& block) { return parts_.lidar_decoder->decode(datagram, block); });
+  parts_.lidar_decoder->report(counters_);
+  if (has_points) registration_wakeup_.notify();
+}
+
+void Pipeline::on_imu_bytes(const ImuBytes& bytes) {
+  counters_.last_imu_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
+  if (parts_.recorder) parts_.recorder->record_imu(bytes);
+  parts_.imu_decoder->decode(bytes, emit_imu_);
+  parts_.imu_decoder->report(counters_);
+}
+
+void Pipeline::on_source_end() {
+  if (--sources_running_ > 0) return;
+  input_ended_.store(true, std::memory_order_release);
+  if (wake_main_) wake_main_();
+}
+
+// ---- fuser thread ---------------------------------------------------------------
+
+void Pipeline::run_fuser() {
+  FuserStage& fuser = *parts_.fuser;
+  ImuSample sample;
+  RegistrationRecord correction;
+  TrajectoryRecord fused;
+  for (;;) {
+    fuser_heartbeat_.fetch_add(1, std::memory_order_relaxed);
+    const int stop = fuser_stop_.load(std::memory_order_acquire);
+    if (stop == 2) break;
+    bool worked = false;
+    while (corrections_.pop(correction)) {
+      fuser.add_correction(correction);
+      worked = true;
+    }
+    if (imu_.pop(sample)) {
+      worked = true;
+      for (std::size_t k = 0; k < 3; ++k) {
+        if (sample.accel_saturated[k]) counters_.accel_saturated_samples[k].fetch_add(1, std::memory_order_relaxed);
+        if (sample.gyro_saturated[k]) counters_.gyro_saturated_samples[k].fetch_add(1, std::memory_order_relaxed);
+      }
+      const bool extended = fuser.add_imu(sample, fused);
+      counters_.fuser_initialised.store(extended, std::memory_order_relaxed);
+      if (extended) {
+        trajectory_.publish(fused);
+        push(odometry_, fused);
+        output_wakeup_.notify();
+      }
+      // After publishing: the registration thread compares this with the IMU
+      // ring's push count to know whether more trajectory can come.
+      counters_.imu_samples.fetch_add(1, std::memory_order_acq_rel);
+      registration_wakeup_.notify();
+    }
+    if (worked) continue;
+    if (stop == 1) break;  // drained
+    fuser_wakeup_.wait(kIdleWait, [this] {
+      return !imu_.empty() || !corrections_.empty() || fuser_stop_.load(std::memory_order_acquire) != 0;
+    });
+  }
+  fuser_finished_.store(true, std::memory_order_release);
+  registration_wakeup_.notify();
+}
+
+// ---- registration thread ----------------------------------------------------------
+
+std::optional<double> Pipeline::newest_trajectory_time() const {
+  const std::uint64_t published = trajectory_.published();
+  TrajectoryRecord newest;
+  if (published == 0 || !trajectory_.read(published - 1, newest)) return std::nullopt;
+  return newest.t_s;
+}
+
+bool Pipeline::trajectory_may_still_come(std::int64_t scan_complete_steady_ns) const {
+  if (!parts_.fuser || fuser_finished_.load(std::memory_order_acquire)) return false;
+  if (registration_stop_.load(std::memory_order_acquire) == 2) return false;
+  if (policy_ == OverflowPolicy::Wait) {
+    // Replay: more IMU data can reach the fuser unless the IMU input ended or
+    // the io thread is blocked on the full lidar ring (which only this thread
+    // empties, so that state holds while we wait) - and the fuser has
+    // processed all the io thread delivered.
+    const bool io_blocked = io_blocked_on_lidar_.load(std::memory_order_acquire) && lidar_.full();
+    const bool io_cannot_deliver = imu_input_ended_.load(std::memory_order_acquire) || io_blocked;
+    const bool fuser_done =
+        counters_.imu_samples.load(std::memory_order_acquire) == static_cast<std::int64_t>(imu_.pushed());
+    return !(io_cannot_deliver && fuser_done);
+  }
+  return steady_now_ns() - scan_complete_steady_ns < trajectory_wait_ns_;
+}
+
+void Pipeline::run_registration() {
+  RegistrationStage& stage = *parts_.registration;
+  bool holding = false;
+  std::int64_t complete_ns = 0;
+  for (;;) {
+    registration_heartbeat_.fetch_add(1, std::memory_order_relaxed);
+    const int stop = registration_stop_.load(std::memory_order_acquire);
+    if (stop == 2) break;
+    if (!holding) {
+      const bool got = lidar_.pop_with([&](const PointBlock& block) { holding = stage.add_points(block); });
+      if (!got) {
+        if (stop == 1) break;  // drained
+        registration_wakeup_.wait(
+            kIdleWait, [this] { return !lidar_.empty() || registration_stop_.load(std::memory_order_acquire) != 0; });
+        continue;
+      }
+      if (!holding) continue;
+      complete_ns = steady_now_ns();
+    }
+    const double scan_end_s = stage.held_scan_span().end_s;
+    const std::optional<double> newest = newest_trajectory_time();
+    if ((!newest || *newest < scan_end_s) && trajectory_may_still_come(complete_ns)) {
+      const std::uint64_t published = trajectory_.published();
+      const std::int64_t consumed = counters_.imu_samples.load(std::memory_order_acquire);
+      const bool io_blocked = io_blocked_on_lidar_.load(std::memory_order_acquire);
+      const bool imu_ended = imu_input_ended_.load(std::memory_order_acquire);
+      registration_wakeup_.wait(kIdleWait, [&] {  // until something that decides the wait changes
+        return trajectory_.published() != published ||
+               counters_.imu_samples.load(std::memory_order_acquire) != consumed ||
+               io_blocked_on_lidar_.load(std::memory_order_acquire) != io_blocked ||
+               imu_input_ended_.load(std::memory_order_acquire) != imu_ended ||
+               fuser_finished_.load(std::memory_order_acquire) ||
+               registration_stop_.load(std::memory_order_acquire) != 0;
+      });
+      continue;
+    }
+    register_scan(complete_ns);
+    holding = false;
+  }
+}
+
+void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
+  RegistrationStage& stage = *parts_.registration;
+  const RegistrationStage::TimeSpan span = stage.held_scan_span();
+  WindowRead window = read_window(trajectory_, span.start_s, span.end_s, window_);
+  if (window.status == WindowStatus::NotYetReached) {
+    // No more waiting: register with the trajectory there is.
+    counters_.scans_short_trajectory.fetch_add(1, std::memory_order_relaxed);
+    const std::optional<double> newest = newest_trajectory_time();
+    window = newest ? read_window(trajectory_, span.start_s, *newest, window_) : WindowRead{WindowStatus::Ok, 0};
+  }
+  if (window.status != WindowStatus::Ok) {  // overwritten: this thread fell too far behind
+    stage.discard_held_scan();
+    counters_.scans_dropped.fetch_add(1, std::memory_order_relaxed);
+    return;
+  }
+  tumble::scan_t* viewer = publish_scan_ ? &scans_.draft() : nullptr;
+  stage.register_held_scan(std::span<const TrajectoryRecord>(window_.data(), window.count), registration_out_, viewer);
+  registration_out_.scan_complete_steady_ns = scan_complete_steady_ns;
+  counters_.scans_registered.fetch_add(1, std::memory_order_relaxed);
+  push(corrections_, registration_out_);
+  fuser_wakeup_.notify();
+  push(registrations_, registration_out_);
+  scan_reports_.push(registration_out_);  // statistics: dropping the oldest is fine even in replay
+  if (viewer != nullptr) scans_.publish();
+  output_wakeup_.notify();
+}
+
+// ---- lifecycle --------------------------------------------------------------------
+
+void Pipeline::stop(Drain drain) {
+  const int level = drain == Drain::Yes ? 1 : 2;
+  if (drain == Drain::No) abandon_.store(true, std::memory_order_release);
+  if (io_thread_.joinable()) {
+    boost::asio::post(io_, [this] {
+      if (parts_.lidar_source) parts_.lidar_source->stop();
+      if (parts_.imu_source) parts_.imu_source->stop();
+      io_heartbeat_timer_->cancel();
+      io_work_.reset();
+      io_.stop();
+    });
+    io_thread_.join();
+  }
+  // Fuser before registration: in a drain, registration sees the whole trajectory.
+  fuser_stop_.store(level, std::memory_order_release);
+  fuser_wakeup_.notify();
+  if (fuser_thread_.joinable()) fuser_thread_.join();
+  registration_stop_.store(level, std::memory_order_release);
+  registration_wakeup_.notify();
+  if (registration_thread_.joinable()) registration_thread_.join();
+  if (parts_.recorder) parts_.recorder->flush();
+}
+
+bool Pipeline::threads_alive() {
+  bool alive = true;
+  const auto check = [&alive](const std::thread& thread, const std::atomic<std::uint64_t>& heartbeat,
+                              std::uint64_t& seen) {
+    if (!thread.joinable()) return;
+    const std::uint64_t now = heartbeat.load(std::memory_order_relaxed);
+    if (now == seen) alive = false;
+    seen = now;
+  };
+  check(io_thread_, io_heartbeat_, seen_io_heartbeat_);
+  check(fuser_thread_, fuser_heartbeat_, seen_fuser_heartbeat_);
+  check(registration_thread_, registration_heartbeat_, seen_registration_heartbeat_);
+  return alive;
+}
+
+}  // namespace tumble::daemon

@@ -1,0 +1,142 @@
+#include "daemon/run.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+
+#include "daemon/lcm_messages.hpp"
+#include "daemon/lcm_publisher.hpp"
+#include "daemon/status_aggregator.hpp"
+#include "daemon/systemd_notify.hpp"
+#include "daemon/trajectory_file.hpp"
+
+namespace tumble::daemon {
+
+namespace {
+
+std::int64_t steady_now_ns() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+std::int64_t host_utime_now() {
+  return std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+const char* present(bool yes) { return yes ? "yes" : "none"; }
+
+}  // namespace
+
+RunOptions run_options(const CommandLine& command_line) {
+  return {command_line.replay, command_line.rate, command_line.trajectory_out};
+}
+
+int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& lcm, ShutdownSignals& signals,
+               const PartsFactory& make_parts) {
+  const SystemdNotifier systemd;
+  const std::chrono::nanoseconds status_period(std::llround(config.daemon.status_period_s * 1e9));
+  std::chrono::nanoseconds tick = status_period;
+  if (const auto watchdog = systemd.watchdog_timeout()) tick = std::min<std::chrono::nanoseconds>(tick, *watchdog / 2);
+  MainLoop loop(signals, tick);  // before the pipeline: its threads wake the loop until they are joined
+
+  const bool lossless = options.replay && options.rate.max;
+  Pipeline pipeline(config, lossless ? OverflowPolicy::Wait : OverflowPolicy::DropOldest);
+  PipelineParts parts = make_parts(pipeline.io_context(), config, options);
+  if (options.replay && (!parts.lidar_source || !parts.imu_source)) {
+    spdlog::error("--replay: this build has no lidar and IMU replay sources");
+    return 1;
+  }
+  if (!config.record.dir.empty() && !parts.recorder) {
+    spdlog::error("record.dir: this build has no recorder");
+    return 1;
+  }
+  std::optional<TrajectoryFile> trajectory;
+  if (options.trajectory_out) trajectory.emplace(*options.trajectory_out);
+  spdlog::info("parts: lidar source {}, IMU source {}, fuser {}, registration {}, recorder {}",
+               present(parts.lidar_source != nullptr), present(parts.imu_source != nullptr),
+               present(parts.fuser != nullptr), present(parts.registration != nullptr),
+               present(parts.recorder != nullptr));
+
+  const std::vector<std::string> stage_names =
+      parts.registration ? parts.registration->stage_names() : std::vector<std::string>{};
+  LcmPublisher publisher(lcm, LcmChannels::with_prefix(config.lcm.channel_prefix), pipeline.publisher_inputs(),
+                         stage_names, pipeline.output_wakeup());
+  if (trajectory) publisher.add_observer(*trajectory);
+  StatusAggregator status(config.daemon.health, stage_names, pipeline.rings(), pipeline.counters(),
+                          pipeline.scan_reports(), steady_now_ns());
+  const auto publish_status = [&] {
+    status.tick(steady_now_ns(), host_utime_now(), pipeline.status_mailbox().draft());
+    pipeline.status_mailbox().publish();
+    pipeline.output_wakeup().notify();
+  };
+
+  publisher.start();
+  pipeline.start(std::move(parts), [&loop] { loop.wake(); });
+  systemd.ready();
+  spdlog::info("running: LCM {} channels {}*, model {}, de-skew {}", config.lcm.url, config.lcm.channel_prefix,
+               to_string(config.registration.model), config.registration.deskew ? "on" : "off");
+
+  std::int64_t next_status_ns = steady_now_ns() + status_period.count();
+  std::uint64_t publisher_heartbeat = publisher.heartbeat();
+  bool stalled = false;
+  bool drain = false;
+  int exit_code = 0;
+  for (;;) {
+    const MainLoop::Event event = loop.wait();
+    if (event == MainLoop::Event::Signal) {
+      spdlog::info("{}: stopping", strsignal(loop.last_signal()));
+      break;
+    }
+    if (const auto failure = pipeline.failure()) {
+      spdlog::critical("{}", *failure);
+      exit_code = 1;
+      break;
+    }
+    if (pipeline.input_ended()) {
+      if (!options.replay) {  // live sensors do not end: let systemd restart us
+        spdlog::critical("live sensor input ended");
+        exit_code = 1;
+        break;
+      }
+      spdlog::info("replay input finished: processing what is queued");
+      drain = true;
+      break;
+    }
+    if (event != MainLoop::Event::Tick) continue;
+    const std::int64_t now = steady_now_ns();
+    if (now >= next_status_ns) {
+      publish_status();
+      systemd.status(status.summary());
+      while (next_status_ns <= now) next_status_ns += status_period.count();
+    }
+    if (systemd.watchdog_timeout()) {
+      const bool publisher_alive = publisher.heartbeat() != publisher_heartbeat;
+      publisher_heartbeat = publisher.heartbeat();
+      // Both checks run every time: threads_alive() also records the new heartbeats.
+      const bool alive = pipeline.threads_alive() && publisher_alive;
+      if (alive) {
+        systemd.watchdog();
+      } else if (!stalled) {
+        spdlog::error("a pipeline thread made no progress: withholding the watchdog ping");
+      }
+      stalled = !alive;
+    }
+  }
+
+  systemd.stopping();
+  pipeline.stop(drain ? Pipeline::Drain::Yes : Pipeline::Drain::No);
+  publish_status();  // the final counts
+  publisher.stop();
+  if (trajectory) {
+    trajectory->commit();
+    spdlog::info("trajectory written to {}", trajectory->path());
+  }
+  spdlog::info("stopped");
+  return exit_code;
+}
+
+}  // namespace tumble::daemon

@@ -1,0 +1,45 @@
+// Counters the pipeline threads update and the status thread reads once per
+// period. Each is an independent statistic, so relaxed atomics suffice; a
+// status message is a set of snapshots, not one consistent cut.
+#pragma once
+
+#include <array>
+#include <atomic>
+#include <cstdint>
+
+namespace tumble::daemon {
+
+// A sensor-to-host clock mapping as the driver estimates it.
+struct ClockEstimate {
+  std::atomic<double> offset_s{0.0};  // host - sensor
+  std::atomic<double> drift_ppm{0.0};
+  std::atomic<double> jitter_s{0.0};
+};
+
+struct PipelineCounters {
+  // io thread (decoders copy their cumulative counts in)
+  std::atomic<std::int64_t> lidar_packets{0};
+  std::atomic<std::int64_t> lidar_bad_packets{0};
+  std::atomic<std::int64_t> lidar_missing_packets{0};
+  std::atomic<std::int64_t> lidar_foreign_packets{0};
+  std::atomic<std::int64_t> imu_frames{0};
+  std::atomic<std::int64_t> imu_bad_frames{0};
+  std::atomic<std::int64_t> imu_gaps{0};
+  ClockEstimate imu_clock;
+  ClockEstimate lidar_clock;
+  std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
+  std::atomic<std::int64_t> last_imu_steady_ns{0};    // arrival of the newest serial bytes, 0 = never
+
+  // fuser thread
+  std::atomic<std::int64_t> imu_samples{0};  // consumed by the fuser
+  std::array<std::atomic<std::int64_t>, 3> accel_saturated_samples{};
+  std::array<std::atomic<std::int64_t>, 3> gyro_saturated_samples{};
+  std::atomic<bool> fuser_initialised{false};
+
+  // registration thread
+  std::atomic<std::int64_t> scans_registered{0};
+  std::atomic<std::int64_t> scans_dropped{0};           // discarded: too far behind
+  std::atomic<std::int64_t> scans_short_trajectory{0};  // registered before the trajectory covered them
+};
+
+}  // namespace tumble::daemon

@@ -1,0 +1,72 @@
+// Receives the lidar's MSOP and DIFOP datagrams live on two UDP ports with
+// Boost.Asio. Each datagram is stamped with its kernel receive time (host
+// CLOCK_REALTIME, SO_TIMESTAMPNS) and handed to the handler from a fixed
+// buffer: nothing is allocated per datagram.
+#pragma once
+
+#include <array>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/udp.hpp>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include "drivers/rs16/lidar_datagram.hpp"
+
+namespace tumble::rs16 {
+
+struct UdpSourceConfig {
+  std::string bind_address = "0.0.0.0";
+  SourceConfig ports;  // port 0 in tests: let the kernel pick (see msop_port())
+  int receive_buffer_bytes = 4 << 20;  // room for ~3 s of MSOP at full rate if the io thread stalls
+};
+
+struct UdpSourceStats {
+  std::uint64_t msop = 0;
+  std::uint64_t difop = 0;
+  std::uint64_t wrong_source = 0;
+  std::uint64_t oversize = 0;  // larger than any lidar packet, skipped
+  std::uint64_t receive_errors = 0;
+};
+
+class UdpSource {
+ public:
+  // The payload is valid only during the call: copy it (e.g. into a ring) to keep it.
+  using Handler = std::function<void(const LidarDatagram&)>;
+
+  // Binds both ports; throws std::runtime_error naming address:port and the
+  // reason, std::invalid_argument when the two ports are the same.
+  UdpSource(boost::asio::io_context& io, const UdpSourceConfig& config, Handler handler);
+  UdpSource(const UdpSource&) = delete;
+  UdpSource& operator=(const UdpSource&) = delete;
+
+  // Starts receiving on the io_context's thread(s); stop() ends that.
+  void start();
+  void stop();
+
+  std::uint16_t msop_port() const { return msop_.socket.local_endpoint().port(); }
+  std::uint16_t difop_port() const { return difop_.socket.local_endpoint().port(); }
+  const UdpSourceStats& stats() const { return stats_; }
+
+ private:
+  static constexpr std::size_t kBufferBytes = 2048;  // an MSOP/DIFOP payload is 1248
+  struct Channel {
+    Channel(boost::asio::io_context& io, PacketKind k) : socket(io), kind(k) {}
+    boost::asio::ip::udp::socket socket;
+    PacketKind kind;
+    std::array<std::uint8_t, kBufferBytes> buffer{};
+  };
+
+  void open(Channel& channel, const boost::asio::ip::address_v4& address, std::uint16_t port, int receive_buffer);
+  void arm(Channel& channel);
+  void drain(Channel& channel);
+
+  SourceConfig config_;
+  Handler handler_;
+  Channel msop_;
+  Channel difop_;
+  UdpSourceStats stats_;
+  bool running_ = false;
+};
+
+}  // namespace tumble::rs16

@@ -1,0 +1,201 @@
+#include "core/icp.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "core/voxel_grid.hpp"
+#include "test/core/synthetic_room.hpp"
+
+namespace tumble {
+namespace {
+
+constexpr double kDeg = M_PI / 180;
+
+TEST(FrmsdTrim, KeepsExactlyTheInliersWhenTheirShareIsInsideTheRange) {
+  // 62 % inliers with small residuals, 38 % outliers far away: FRMSD(r) falls
+  // while r adds inliers and jumps at the first outlier, so r = 0.62.
+  std::vector<double> d2;
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> small(0.0, 0.01), large(0.5, 1.0);
+  for (int i = 0; i < 620; ++i) d2.push_back(small(rng) * small(rng));
+  for (int i = 0; i < 380; ++i) d2.push_back(large(rng));
+  std::shuffle(d2.begin(), d2.end(), rng);
+  std::vector<double> scratch;
+  const FrmsdTrim trim = frmsd_trim(d2, 0.5, 0.7, 2.35, scratch);
+  EXPECT_EQ(trim.kept, 620u);
+  EXPECT_DOUBLE_EQ(trim.ratio, 0.62);
+  EXPECT_LT(trim.threshold_sq, 1e-4);
+  EXPECT_EQ(std::count_if(d2.begin(), d2.end(), [&](double v) { return v <= trim.threshold_sq; }), 620);
+}
+
+TEST(FrmsdTrim, ClampsToTheRange) {
+  std::vector<double> d2;
+  for (int i = 0; i < 100; ++i) d2.push_back(i < 90 ? 1e-4 : 100.0);  // 90 % inliers: above r_max
+  std::vector<double> scratch;
+  EXPECT_EQ(frmsd_trim(d2, 0.5, 0.7, 2.35, scratch).kept, 70u);
+  // Residuals growing faster than any power of r: the least overlap wins.
+  for (int i = 0; i < 100; ++i) d2[static_cast<std::size_t>(i)] = std::exp(0.5 * i);
+  EXPECT_EQ(frmsd_trim(d2, 0.5, 0.7, 2.35, scratch).kept, 50u);
+  EXPECT_EQ(frmsd_trim(std::span<const double>(), 0.5, 0.7, 2.35, scratch).kept, 0u);
+}
+
+TEST(FrmsdTrim, LambdaTradesOverlapForResidual) {
+  // Residuals growing linearly with rank: a larger λ rewards a larger overlap.
+  std::vector<double> d2;
+  for (int i = 1; i <= 1000; ++i) d2.push_back(1e-6 * i * i);
+  std::vector<double> scratch;
+  const std::size_t low = frmsd_trim(d2, 0.05, 1.0, 0.5, scratch).kept;
+  const std::size_t high = frmsd_trim(d2, 0.05, 1.0, 3.0, scratch).kept;
+  EXPECT_LT(low, high);
+  EXPECT_EQ(high, 1000u);  // sqrt(mean) ~ r, r^3 wins everywhere
+}
+
+// Surface samples are no lidar scan: every point is on "one scan line", so
+// the scan-line test of the normals is off for them.
+LocalMapParams sampled_map_params() {
+  LocalMapParams params{.min_point_distance_m = 0.0};
+  params.normals.min_other_line_neighbours = 0;
+  return params;
+}
+
+struct RoomFixture {
+  test::Room room = test::make_room();
+  LocalMap map;
+  PointCloud reading;  // frame L
+  Eigen::Isometry3d truth = test::make_pose(Eigen::Vector3d(0.4, -0.3, 0.2), 2 * kDeg, -3 * kDeg, 25 * kDeg);
+
+  // reading_from_map: the reading is the map's own samples seen from `truth`
+  // (exact correspondences); otherwise a lidar scan of the room from `truth`.
+  explicit RoomFixture(bool reading_from_map, double map_spacing_m = 0.05) {
+    const PointCloud surfaces = test::sample_room_surfaces(room, map_spacing_m);
+    map = LocalMap(sampled_map_params());
+    map.insert(surfaces, Eigen::Isometry3d::Identity());
+    PointCloud raw;
+    if (reading_from_map) {
+      raw = surfaces;
+      const Eigen::Isometry3d T_lw = truth.inverse();
+      for (auto& p : raw.points) p = T_lw * p;
+      for (auto& n : raw.normals) n = T_lw.linear() * n;
+    } else {
+      raw = test::to_cloud(test::scan_room(room, [&](double) { return truth; }, 0.0));
+    }
+    VoxelDownsampler(0.1).apply(raw, reading);
+  }
+};
+
+Eigen::Isometry3d offset_guess(const Eigen::Isometry3d& truth) {
+  // 0.5 m and 10 degrees away from the truth.
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 3).normalized();
+  Eigen::Isometry3d delta = Eigen::Isometry3d::Identity();
+  delta.linear() = Eigen::AngleAxisd(10 * kDeg, axis).toRotationMatrix();
+  delta.translation() = Eigen::Vector3d(3, -2, 1).normalized() * 0.5;
+  return delta * truth;
+}
+
+TEST(Icp, RecoversHalfMetreTenDegreeOffsetInARoom) {
+  RoomFixture f(true);
+  Icp icp;
+  const IcpResult r = icp.align(f.reading, f.map, offset_guess(f.truth));
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT((r.T_wl.translation() - f.truth.translation()).norm(), 1e-3);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), 0.01 * kDeg);
+  EXPECT_FALSE(r.degeneracy.degenerate);
+  EXPECT_GT(r.inlier_ratio, 0.49);
+  EXPECT_LT(r.residual_rms_m, 1e-4);
+  EXPECT_LT(r.iterations, 40);
+}
+
+TEST(Icp, RegistersALidarScanToASampledMap) {
+  // Different samples on both sides: only the planes are shared.
+  RoomFixture f(false);
+  Icp icp;
+  const IcpResult r = icp.align(f.reading, f.map, offset_guess(f.truth));
+  EXPECT_TRUE(r.converged);
+  EXPECT_LT((r.T_wl.translation() - f.truth.translation()).norm(), 2e-3);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), 0.05 * kDeg);
+  // Covariance: positive definite, translation std well under a centimetre.
+  EXPECT_GT(r.covariance.ldlt().vectorD().minCoeff(), 0);
+  EXPECT_LT(std::sqrt(r.covariance.diagonal().head<3>().maxCoeff()), 0.01);
+}
+
+TEST(Icp, ZeroWeightOutliersAreIgnoredAndWeightedOnesPullTheSolution) {
+  RoomFixture f(true, 0.1);
+  // A ghost copy of the reading shifted by 15 cm: a second, wrong surface.
+  const std::size_t n = f.reading.size();
+  PointCloud reading = f.reading;
+  reading.resize(2 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    reading.copy_point(n + i, f.reading, i);
+    reading.points[n + i] += Eigen::Vector3d(0.15, 0.1, 0.0);
+  }
+  // Keep every match so that only the weights decide.
+  IcpParams params{.frmsd_r_min = 1.0, .frmsd_r_max = 1.0, .weighting = MatchWeighting::kPointWeight};
+  Icp icp(params);
+  for (std::size_t i = n; i < 2 * n; ++i) reading.weights[i] = 0.0;
+  const IcpResult ignored = icp.align(reading, f.map, f.truth);
+  EXPECT_LT((ignored.T_wl.translation() - f.truth.translation()).norm(), 1e-6);
+  for (std::size_t i = n; i < 2 * n; ++i) reading.weights[i] = 1.0;
+  const IcpResult pulled = icp.align(reading, f.map, f.truth);
+  EXPECT_GT((pulled.T_wl.translation() - f.truth.translation()).norm(), 0.02);
+  // Inverse-variance weighting: a huge sigma_s makes the ghost irrelevant.
+  IcpParams variance_params = params;
+  variance_params.weighting = MatchWeighting::kInverseVariance;
+  Icp variance_icp(variance_params);
+  for (std::size_t i = n; i < 2 * n; ++i) reading.sigma_s_m[i] = 1e4;
+  const IcpResult down_weighted = variance_icp.align(reading, f.map, f.truth);
+  EXPECT_LT((down_weighted.T_wl.translation() - f.truth.translation()).norm(), 1e-4);
+}
+
+TEST(Icp, FlagsACorridorDegenerateAlongItsAxis) {
+  const test::Room corridor = test::make_corridor();
+  test::Room finite = corridor;  // sample a finite stretch of it for the map
+  finite.interior.lo.x() = -10;
+  finite.interior.hi.x() = 10;
+  finite.interior.hi.z() = 4;  // a ceiling above anything the reading sees
+  PointCloud surfaces = test::sample_room_surfaces(finite, 0.1);
+  LocalMap map(sampled_map_params());
+  map.insert(surfaces, Eigen::Isometry3d::Identity());
+  test::RingLidar lidar;
+  lidar.max_range_m = 8;  // never sees the stretch's ends
+  const Eigen::Isometry3d truth = test::make_pose(Eigen::Vector3d(0, 0.3, 0), 0, 0, 0.3);
+  PointCloud reading;
+  VoxelDownsampler(0.1).apply(test::to_cloud(test::scan_room(corridor, [&](double) { return truth; }, 0.0, lidar)), reading);
+  Icp icp;
+  Eigen::Isometry3d guess = truth;
+  guess.translation() += Eigen::Vector3d(0.2, 0.05, 0.0);
+  const IcpResult r = icp.align(reading, map, guess);
+  ASSERT_TRUE(r.degeneracy.degenerate);
+  EXPECT_GT(std::abs(r.degeneracy.direction(0)), 0.99);  // translation along x
+  // Not exactly 0: PCA normals along the wall-floor edges lean a little along
+  // x where k-NN ties on the sampling grid are broken one-sidedly.
+  EXPECT_LT(r.degeneracy.min_eigenvalue, 1e-3);
+  EXPECT_GT(r.degeneracy.condition_number, 1e3);
+  // The constrained directions are still recovered.
+  EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, truth), 0.01 * kDeg);
+
+  // The room is not degenerate.
+  RoomFixture f(true, 0.1);
+  EXPECT_FALSE(icp.align(f.reading, f.map, f.truth).degeneracy.degenerate);
+}
+
+TEST(Icp, NoMapMeansNoConvergence) {
+  LocalMap empty;
+  RoomFixture f(true, 0.2);
+  Icp icp;
+  const IcpResult r = icp.align(f.reading, empty, f.truth);
+  EXPECT_FALSE(r.converged);
+  EXPECT_EQ(r.matches_considered, 0u);
+  EXPECT_TRUE(r.degeneracy.degenerate);
+  EXPECT_TRUE(r.T_wl.isApprox(f.truth));
+}
+
+TEST(Icp, RejectsBadParameters) {
+  EXPECT_THROW(Icp(IcpParams{.max_match_distance_m = 0}), std::invalid_argument);
+  EXPECT_THROW(Icp(IcpParams{.match_k = 0}), std::invalid_argument);
+  EXPECT_THROW(Icp(IcpParams{.frmsd_r_min = 0.8, .frmsd_r_max = 0.7}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tumble

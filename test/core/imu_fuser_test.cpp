@@ -1,0 +1,370 @@
+// The fuser against simulated IMU data with a known truth: static
+// initialisation, the lever arm, the velocity filter (tracking a perfect lidar,
+// removing a bias drift, applying the mean velocity at the mid-interval time),
+// the pose correction, saturation flags and the bounded buffers.
+#include "core/imu_fuser.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+namespace tumble {
+namespace {
+
+constexpr double kG = 9.80665;
+constexpr double kT0 = 1000.0;         // first sample (absolute times, as in replay)
+constexpr double kMotionStart = kT0 + 1.2;
+constexpr double kDt = 0.01;           // 100 Hz
+
+// Motion of the IMU in W (z up); static before kMotionStart.
+struct Truth {
+  std::function<Eigen::Vector3d(double)> p_w = [](double) { return Eigen::Vector3d::Zero(); };
+  std::function<Eigen::Vector3d(double)> v_w = [](double) { return Eigen::Vector3d::Zero(); };
+  std::function<Eigen::Vector3d(double)> a_w = [](double) { return Eigen::Vector3d::Zero(); };
+  std::function<Eigen::Quaterniond(double)> q_wi = [](double) { return Eigen::Quaterniond::Identity(); };
+  std::function<Eigen::Vector3d(double)> omega_i = [](double) { return Eigen::Vector3d::Zero(); };
+  std::function<Eigen::Vector3d(double)> accel_bias = [](double) { return Eigen::Vector3d::Zero(); };
+};
+
+ImuSample sample_at(const Truth& truth, double t) {
+  ImuSample s;
+  s.t_s = t;
+  const Eigen::Quaterniond q = truth.q_wi(t);
+  s.accel_m_s2 = q.conjugate() * (truth.a_w(t) + Eigen::Vector3d(0, 0, kG)) + truth.accel_bias(t);
+  s.gyro_rad_s = truth.omega_i(t);
+  s.has_orientation = true;
+  s.orientation = q;
+  return s;
+}
+
+double sample_time(int n) { return kT0 + kDt * n; }
+
+// Feeds samples n_from..n_to inclusive.
+void feed(ImuFuser& fuser, const Truth& truth, int n_from, int n_to) {
+  for (int n = n_from; n <= n_to; ++n) fuser.add_imu(sample_at(truth, sample_time(n)));
+}
+
+ImuFuserParams device_attitude_params() {
+  ImuFuserParams params;
+  params.attitude_from_device = true;  // isolates the velocity filter from Madgwick's tilt under acceleration
+  return params;
+}
+
+Eigen::Isometry3d pose_of(const Eigen::Quaterniond& q, const Eigen::Vector3d& p) {
+  Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
+  T.linear() = q.toRotationMatrix();
+  T.translation() = p;
+  return T;
+}
+
+// Index of the last trajectory sample at or before t.
+std::size_t sample_before(const Trajectory& trajectory, double t) {
+  std::size_t i = 0;
+  while (i + 1 < trajectory.size() && trajectory[i + 1].t_s <= t) ++i;
+  return i;
+}
+
+TEST(ImuFuser, InitialisesLevelledFromAStaticPeriodAndEstimatesGyroBias) {
+  Truth truth;
+  const Eigen::Quaterniond tilted(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()) *
+                                  Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()));
+  truth.q_wi = [&](double) { return tilted; };
+  const Eigen::Vector3d bias(0.01, -0.02, 0.005);
+  truth.omega_i = [&](double) { return bias; };
+  ImuFuserParams params;
+  params.T_li.translation() = Eigen::Vector3d(0.1, 0.2, -0.3);
+  ImuFuser fuser(params);
+  feed(fuser, truth, 0, 99);
+  EXPECT_FALSE(fuser.initialized());
+  feed(fuser, truth, 100, 100);  // 1 s of static data
+  ASSERT_TRUE(fuser.initialized());
+  EXPECT_LT((fuser.gyro_bias_rad_s() - bias).norm(), 1e-12);
+  EXPECT_NEAR(fuser.gravity_m_s2(), kG, 1e-9);
+
+  const TrajectorySample& first = fuser.trajectory().front();
+  EXPECT_DOUBLE_EQ(first.t_s, sample_time(100));
+  EXPECT_LT(first.p_w.norm(), 1e-12);  // W's origin is the lidar
+  // Levelled: the lidar's "up" is the measured one...
+  const Eigen::Vector3d up_measured = (tilted.conjugate() * Eigen::Vector3d::UnitZ()).normalized();
+  EXPECT_LT((first.q_wl.conjugate() * Eigen::Vector3d::UnitZ() - up_measured).norm(), 1e-12);
+  // ...and the lidar's heading is W's x: its x axis has no W-y component.
+  EXPECT_NEAR((first.q_wl * Eigen::Vector3d::UnitX()).y(), 0.0, 1e-12);
+}
+
+TEST(ImuFuser, KeepsWaitingWhileTheImuMoves) {
+  Truth truth;
+  truth.omega_i = [](double t) {
+    return Eigen::Vector3d(0, 0, (t < kT0 + 1.995 || (t > kT0 + 2.505 && t < kT0 + 2.595)) ? 0.5 : 0.0);
+  };
+  ImuFuser fuser(ImuFuserParams{});
+  feed(fuser, truth, 0, 199);
+  EXPECT_FALSE(fuser.initialized());
+  feed(fuser, truth, 200, 340);  // still 2.0–2.5, moving 2.5–2.6: the window restarts
+  EXPECT_FALSE(fuser.initialized());
+  EXPECT_EQ(fuser.stats().static_restarts, 1u);
+  feed(fuser, truth, 341, 360);  // static again from 2.60: 1.0 s
+  EXPECT_TRUE(fuser.initialized());
+}
+
+TEST(ImuFuser, PureRotationAboutTheImuGivesTheLidarOmegaCrossLeverArm) {
+  const double rate = 2.0;
+  Truth truth;
+  truth.q_wi = [&](double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(rate * std::max(0.0, t - kMotionStart), Eigen::Vector3d::UnitZ()));
+  };
+  truth.omega_i = [&](double t) { return Eigen::Vector3d(0, 0, t > kMotionStart ? rate : 0.0); };
+  ImuFuserParams params;  // Madgwick attitude
+  params.T_li.translation() = Eigen::Vector3d(-0.3, 0.0, -0.1);  // IMU seen from the lidar
+  const Eigen::Vector3d r_il(0.3, 0.0, 0.1);                      // lidar seen from the IMU
+  ImuFuser fuser(params);
+  feed(fuser, truth, 0, 300);
+  const TrajectorySample& s = fuser.trajectory().back();
+  const Eigen::Quaterniond q = truth.q_wi(s.t_s);
+  EXPECT_LT((s.v_w - q * Eigen::Vector3d(0, 0, rate).cross(r_il)).norm(), 1e-9);
+  EXPECT_NEAR(s.v_w.norm(), rate * 0.3, 1e-9);
+  EXPECT_LT((s.p_w - (Eigen::Vector3d(-0.3, 0.0, -0.1) + q * r_il)).norm(), 1e-9);  // on the circle
+  EXPECT_LT((s.omega_l - Eigen::Vector3d(0, 0, rate)).norm(), 1e-12);
+}
+
+// A smooth 3-D motion from rest with a slow yaw, and an accelerometer bias.
+Truth wandering_motion(const Eigen::Vector3d& accel_bias) {
+  Truth truth;
+  const Eigen::Vector3d amplitude(2.0, 1.0, 0.3);
+  const double w = 1.5, yaw_rate = 0.3;
+  auto tau = [](double t) { return std::max(0.0, t - kMotionStart); };
+  truth.p_w = [=](double t) { return Eigen::Vector3d(amplitude * (1 - std::cos(w * tau(t)))); };
+  truth.v_w = [=](double t) { return Eigen::Vector3d(amplitude * w * std::sin(w * tau(t))); };
+  truth.a_w = [=](double t) -> Eigen::Vector3d {
+    return t > kMotionStart ? Eigen::Vector3d(amplitude * w * w * std::cos(w * tau(t))) : Eigen::Vector3d::Zero();
+  };
+  truth.q_wi = [=](double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(yaw_rate * tau(t), Eigen::Vector3d::UnitZ()));
+  };
+  truth.omega_i = [=](double t) { return Eigen::Vector3d(0, 0, t > kMotionStart ? yaw_rate : 0.0); };
+  truth.accel_bias = [=](double t) -> Eigen::Vector3d {
+    return t > kMotionStart ? accel_bias : Eigen::Vector3d::Zero();
+  };
+  return truth;
+}
+
+TEST(ImuFuser, VelocityFilterTracksAPerfectLidarAndRemovesABiasDrift) {
+  const Truth truth = wandering_motion(Eigen::Vector3d(0.2, 0.0, 0.0));
+  ImuFuser corrected(device_attitude_params());
+  ImuFuser drifting(device_attitude_params());
+  feed(corrected, truth, 0, 130);
+  feed(drifting, truth, 0, 1130);
+  // Scans every 0.1 s, starting between IMU samples; each registered once the
+  // IMU covers the scan (as the pipeline does).
+  for (int scan = 0; scan < 100; ++scan) {
+    const int n_start = 130 + 10 * scan;
+    feed(corrected, truth, n_start + 1, n_start + 10);
+    const double t_scan = sample_time(n_start) - 0.004;
+    const CorrectionResult result =
+        corrected.correct_with_registered_pose(t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 0.002);
+    ASSERT_TRUE(result.pose_reset);
+    ASSERT_EQ(result.velocity_updated, scan > 0);
+  }
+  const double t_end = corrected.trajectory().t_end_s();
+  ASSERT_DOUBLE_EQ(t_end, drifting.trajectory().t_end_s());
+  const Eigen::Vector3d v_true = truth.v_w(t_end);
+  const double corrected_error = (corrected.trajectory().back().v_w - v_true).norm();
+  const double drift_error = (drifting.trajectory().back().v_w - v_true).norm();
+  EXPECT_GT(drift_error, 1.0);  // 0.2 m/s² over 10 s, turning with the yaw
+  EXPECT_LT(corrected_error, 0.05);
+  EXPECT_LT((corrected.trajectory().back().p_w - truth.p_w(t_end)).norm(), 0.01);
+  EXPECT_EQ(corrected.stats().velocity_updates, 99u);
+}
+
+TEST(ImuFuser, LidarMeanVelocityIsAppliedAtTheMidIntervalTime) {
+  // Constant acceleration along x. The accelerometer reads 0.5 m/s² too much for
+  // the first second, which leaves the filter 0.5 m/s fast; then it is exact.
+  const double accel = 3.0;
+  Truth truth;
+  auto tau = [](double t) { return std::max(0.0, t - kMotionStart); };
+  truth.p_w = [&](double t) { return Eigen::Vector3d(0.5 * accel * tau(t) * tau(t), 0, 0); };
+  truth.v_w = [&](double t) { return Eigen::Vector3d(accel * tau(t), 0, 0); };
+  truth.a_w = [&](double t) { return Eigen::Vector3d(t > kMotionStart ? accel : 0.0, 0, 0); };
+  truth.accel_bias = [&](double t) {
+    return Eigen::Vector3d(tau(t) > 0.0 && tau(t) <= 1.0 ? 0.5 : 0.0, 0, 0);
+  };
+  ImuFuser fuser(device_attitude_params());
+  const double t_previous = kMotionStart + 1.203;  // scan starts between samples
+  const double t_scan = t_previous + 0.1;
+  const double t_mid = 0.5 * (t_previous + t_scan);  // kMotionStart + 1.253
+  feed(fuser, truth, 0, 255);                          // to t_previous + 0.1
+  fuser.correct_with_registered_pose(t_previous, pose_of(truth.q_wi(t_previous), truth.p_w(t_previous)), 1e-6);
+  feed(fuser, truth, 256, 265);                        // to t_scan + 0.1
+  const std::size_t before_mid = sample_before(fuser.trajectory(), t_mid);
+  const TrajectorySample& last_before_mid = fuser.trajectory()[before_mid];
+  const double error_before = last_before_mid.v_w.x() - truth.v_w(last_before_mid.t_s).x();
+  // 0.5 from the bias, less 0.015 lost by the trapezoid at the acceleration's onset.
+  ASSERT_NEAR(error_before, 0.485, 1e-6);
+
+  const CorrectionResult result =
+      fuser.correct_with_registered_pose(t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 1e-6);
+  ASSERT_TRUE(result.velocity_updated);
+  EXPECT_LT(result.rewritten_after_s, t_mid);
+  const Trajectory& trajectory = fuser.trajectory();
+  for (std::size_t i = 0; i < trajectory.size(); ++i) {
+    const TrajectorySample& s = trajectory[i];
+    if (s.t_s < t_previous) continue;
+    const double error = s.v_w.x() - truth.v_w(s.t_s).x();
+    if (s.t_s < t_mid) {
+      EXPECT_NEAR(error, 0.485, 1e-6) << "before the measurement's time: untouched, t = " << s.t_s;
+    } else {
+      EXPECT_NEAR(error, 0.0, 1e-6) << "after it: corrected, t = " << s.t_s;
+    }
+  }
+  // Why the middle: the lidar velocity is the interval's mean, which equals the
+  // velocity at t_mid only; taken as the velocity at the scan time it would be
+  // a·Δt/2 = 0.15 m/s off.
+  const double lidar_mean = (truth.p_w(t_scan) - truth.p_w(t_previous)).x() / 0.1;
+  EXPECT_NEAR(truth.v_w(t_scan).x() - lidar_mean, 0.15, 1e-9);
+  EXPECT_NEAR(trajectory.back().v_w.x(), truth.v_w(trajectory.back().t_s).x(), 1e-6);
+}
+
+TEST(ImuFuser, ConsistentCorrectionLeavesTheTrajectoryUnchanged) {
+  // Constant velocity: the fuser's own poses are exact, so re-propagation with a
+  // zero innovation and no offset must reproduce the forward integration.
+  Truth truth;
+  truth.p_w = [](double t) -> Eigen::Vector3d {
+    return Eigen::Vector3d(0.3, -0.2, 0.1) * std::max(0.0, t - kMotionStart);
+  };
+  truth.v_w = [](double t) -> Eigen::Vector3d {
+    return t > kMotionStart ? Eigen::Vector3d(0.3, -0.2, 0.1) : Eigen::Vector3d::Zero();
+  };
+  ImuFuser fuser(device_attitude_params());
+  feed(fuser, truth, 0, 119);
+  // Kick the filter to the true velocity with one exact pair of corrections.
+  feed(fuser, truth, 120, 160);
+  for (const double t : {kMotionStart + 0.203, kMotionStart + 0.303}) {
+    fuser.correct_with_registered_pose(t, pose_of(Eigen::Quaterniond::Identity(), truth.p_w(t)), 1e-9);
+  }
+  feed(fuser, truth, 161, 200);
+  const Trajectory before = fuser.trajectory();
+  const double t_scan = kMotionStart + 0.403;
+  const Eigen::Isometry3d fused = before.pose_at(t_scan);
+  const CorrectionResult result = fuser.correct_with_registered_pose(t_scan, fused, 0.01);
+  ASSERT_TRUE(result.velocity_updated);
+  const Trajectory& after = fuser.trajectory();
+  ASSERT_EQ(after.size(), before.size() + 1);  // plus the registered pose at t_scan
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    const Eigen::Isometry3d expected = before.pose_at(after[i].t_s);
+    EXPECT_LT((after[i].p_w - expected.translation()).norm(), 1e-9) << i;
+    EXPECT_LT(after[i].q_wl.angularDistance(Eigen::Quaterniond(expected.rotation())), 1e-12) << i;
+    if (after[i].t_s > kMotionStart + 0.253) {  // after the kick's velocity update
+      EXPECT_LT((after[i].v_w - truth.v_w(after[i].t_s)).norm(), 1e-9) << i;
+    }
+  }
+}
+
+TEST(ImuFuser, PoseCorrectionReanchorsAtTheScanStartWithoutLaterJumps) {
+  const Truth truth = wandering_motion(Eigen::Vector3d(0.3, -0.2, 0.0));  // drifting fuser
+  ImuFuser fuser(device_attitude_params());
+  feed(fuser, truth, 0, 350);
+  const Trajectory before = fuser.trajectory();
+  const double t_scan = sample_time(330) + 0.0042;
+  // The registration's pose: the truth, turned by 0.2 rad of yaw, 1.5 m away from the fused one.
+  const Eigen::Quaterniond q_registered =
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())) * truth.q_wi(t_scan);
+  const Eigen::Isometry3d registered = pose_of(q_registered, truth.p_w(t_scan));
+  ASSERT_GT((registered.translation() - before.pose_at(t_scan).translation()).norm(), 0.05);
+  fuser.correct_with_registered_pose(t_scan, registered, 0.01);
+  const Trajectory& after = fuser.trajectory();
+
+  // Through the registered pose at the scan start...
+  const Eigen::Isometry3d at_scan = after.pose_at(t_scan);
+  EXPECT_LT((at_scan.translation() - registered.translation()).norm(), 1e-9);
+  EXPECT_LT(Eigen::Quaterniond(at_scan.rotation()).angularDistance(q_registered), 1e-9);
+  // ...untouched before it...
+  const std::size_t last_before = sample_before(before, t_scan);
+  for (std::size_t i = 0; i <= last_before; ++i) EXPECT_EQ(after[i].p_w, before[i].p_w);
+  // ...and continuous after it (from the sample the fuser adds at t_scan): each
+  // step moves by its mean velocity, and the attitude keeps the gyro's
+  // relative rotation.
+  ASSERT_DOUBLE_EQ(after[last_before + 1].t_s, t_scan);
+  for (std::size_t i = last_before + 1; i + 1 < after.size(); ++i) {
+    const double dt = after[i + 1].t_s - after[i].t_s;
+    const Eigen::Vector3d step = after[i + 1].p_w - after[i].p_w;
+    EXPECT_LT((step - 0.5 * dt * (after[i].v_w + after[i + 1].v_w)).norm(), 1e-9) << i;
+    const Eigen::Quaterniond relative_after = after[i].q_wl.conjugate() * after[i + 1].q_wl;
+    const Eigen::Quaterniond relative_before(
+        (before.pose_at(after[i].t_s).inverse() * before.pose_at(after[i + 1].t_s)).rotation());
+    EXPECT_LT(relative_after.angularDistance(relative_before), 1e-9) << i;
+  }
+}
+
+TEST(ImuFuser, SaturationIsFlaggedPerLidarAxisAndAccelClipsLastUntilTheNextVelocityUpdate) {
+  Truth truth;
+  ImuFuserParams params = device_attitude_params();
+  // Lidar turned +90° about x from the IMU: IMU z is lidar −y.
+  params.T_li.linear() = Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  ImuFuser fuser(params);
+  feed(fuser, truth, 0, 150);
+  ImuSample clipped = sample_at(truth, sample_time(151));
+  clipped.gyro_saturated[2] = true;
+  fuser.add_imu(clipped);
+  const TrajectorySample& gyro_flagged = fuser.trajectory().back();
+  EXPECT_EQ(gyro_flagged.gyro_saturated, (std::array<bool, 3>{false, true, false}));
+  EXPECT_EQ(gyro_flagged.saturated, (std::array<bool, 3>{false, true, false}));
+
+  const double variance_before = fuser.velocity_variance().x();
+  clipped = sample_at(truth, sample_time(152));
+  clipped.accel_saturated[0] = true;  // IMU x = lidar x = W x (level, no yaw)
+  fuser.add_imu(clipped);
+  // (saturated_accel_sigma · dt)² = 1 (m/s)², plus one step of process noise.
+  EXPECT_NEAR(fuser.velocity_variance().x() - variance_before, std::pow(100.0 * kDt, 2), 2e-4);
+  feed(fuser, truth, 153, 170);
+  // The integrated speed stays unknown on the following (unclipped) samples.
+  EXPECT_EQ(fuser.trajectory().back().accel_saturated, (std::array<bool, 3>{true, false, false}));
+  EXPECT_FALSE(fuser.trajectory().back().gyro_saturated[1]);
+  EXPECT_EQ(fuser.stats().accel_saturated_samples, 1u);
+
+  // Two registered poses: the velocity update at their mid time clears it.
+  feed(fuser, truth, 171, 400);
+  for (const int n : {250, 260}) {
+    const double t = sample_time(n);
+    fuser.correct_with_registered_pose(t, fuser.trajectory().pose_at(t), 0.01);
+  }
+  const Trajectory& trajectory = fuser.trajectory();
+  EXPECT_TRUE(trajectory[sample_before(trajectory, sample_time(254))].accel_saturated[0]);
+  EXPECT_FALSE(trajectory[sample_before(trajectory, sample_time(256))].accel_saturated[0]);
+  EXPECT_FALSE(trajectory.back().saturated[0]);
+}
+
+TEST(ImuFuser, RejectsCorrectionsItCannotPlaceAndOutOfOrderSamples) {
+  Truth truth;
+  ImuFuser fuser(ImuFuserParams{});
+  const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
+  EXPECT_FALSE(fuser.correct_with_registered_pose(kT0, identity, 0.01).pose_reset);
+  EXPECT_EQ(fuser.stats().corrections_before_init, 1u);
+  feed(fuser, truth, 0, 200);
+  fuser.add_imu(sample_at(truth, sample_time(150)));
+  EXPECT_EQ(fuser.stats().samples_out_of_order, 1u);
+  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(250), identity, 0.01).pose_reset);  // newer than the IMU
+  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(50), identity, 0.01).pose_reset);   // before the history
+  EXPECT_EQ(fuser.stats().corrections_outside_history, 2u);
+  const CorrectionResult result = fuser.correct_with_registered_pose(sample_time(180), identity, 0.01);
+  EXPECT_TRUE(result.pose_reset);
+  EXPECT_TRUE(std::isfinite(result.rewritten_after_s));
+}
+
+TEST(ImuFuser, BuffersStayBounded) {
+  Truth truth;
+  ImuFuserParams params;
+  params.history_capacity = 64;
+  params.trajectory_capacity = 32;
+  ImuFuser fuser(params);
+  feed(fuser, truth, 0, 2000);
+  EXPECT_EQ(fuser.trajectory().size(), 32u);
+  EXPECT_DOUBLE_EQ(fuser.trajectory().t_end_s(), sample_time(2000));
+  // A correction older than the 64-sample history cannot be placed.
+  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(1900), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
+  EXPECT_TRUE(fuser.correct_with_registered_pose(sample_time(1990), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
+}
+
+}  // namespace
+}  // namespace tumble

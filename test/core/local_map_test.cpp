@@ -1,0 +1,147 @@
+#include "core/local_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <random>
+
+#include "test/core/synthetic_room.hpp"
+
+namespace tumble {
+namespace {
+
+PointCloud cloud_of(const std::vector<Eigen::Vector3d>& points, double sigma_s_m = 0) {
+  PointCloud c;
+  c.resize(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    c.points[i] = points[i];
+    c.sigma_s_m[i] = sigma_s_m;
+  }
+  return c;
+}
+
+TEST(LocalMap, NewPointNeedsMinimumDistanceToEveryMapPoint) {
+  LocalMap map(LocalMapParams{.min_point_distance_m = 0.05});
+  EXPECT_EQ(map.insert(cloud_of({{1, 1, 1}}), Eigen::Isometry3d::Identity()).inserted, 1u);
+  // 2-3 cm away, across a voxel border (voxel 0.25 m): still too close.
+  const MapInsertStats close = map.insert(cloud_of({{1, 1, 0.98}, {1, 0.97, 1}}), Eigen::Isometry3d::Identity());
+  EXPECT_EQ(close.inserted, 0u);
+  EXPECT_EQ(close.rejected_too_close, 2u);
+  // 7 cm away: far enough; the same rule holds among the points of one insert.
+  const MapInsertStats far = map.insert(cloud_of({{1, 1, 1.07}, {1, 1, 1.1}, {1, 1, 1.2}}), Eigen::Isometry3d::Identity());
+  EXPECT_EQ(far.inserted, 2u);
+  EXPECT_EQ(far.rejected_too_close, 1u);
+  EXPECT_EQ(map.size(), 3u);
+}
+
+TEST(LocalMap, InsertsInTheWorldFrameOfThePose) {
+  LocalMap map;
+  Eigen::Isometry3d T_wl = test::make_pose(Eigen::Vector3d(10, -5, 2), 0, 0, M_PI / 2);
+  map.insert(cloud_of({{1, 0, 0}}), T_wl);
+  Neighbour nn;
+  ASSERT_EQ(map.knn(Eigen::Vector3d(10, -4, 2), 0.01, std::span<Neighbour>(&nn, 1)), 1u);
+  EXPECT_NEAR(map.point(nn.index).p_w.x(), 10, 1e-12);
+  EXPECT_NEAR(map.point(nn.index).p_w.y(), -4, 1e-12);
+}
+
+TEST(LocalMap, PointsTooUncertainStayOut) {
+  LocalMap map(LocalMapParams{.max_sigma_s_m = 1.0});
+  PointCloud c = cloud_of({{0, 0, 0}, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, {4, 0, 0}});
+  c.sigma_s_m = {0.5, 1.0, 1.5, std::numeric_limits<double>::infinity(), std::numeric_limits<double>::quiet_NaN()};
+  const MapInsertStats stats = map.insert(c, Eigen::Isometry3d::Identity());
+  EXPECT_EQ(stats.inserted, 2u);
+  EXPECT_EQ(stats.rejected_sigma, 3u);
+  std::vector<double> sigmas;
+  map.for_each_point([&](const MapPoint& p) { sigmas.push_back(p.sigma_s_m); });
+  std::sort(sigmas.begin(), sigmas.end());
+  EXPECT_EQ(sigmas, (std::vector<double>{0.5, 1.0}));
+}
+
+TEST(LocalMap, VoxelCapBoundsPointsPerVoxel) {
+  LocalMap map(LocalMapParams{.voxel_size_m = 1.0, .max_points_per_voxel = 5, .min_point_distance_m = 0.05});
+  std::vector<Eigen::Vector3d> pts;
+  for (int i = 0; i < 9; ++i) pts.emplace_back(0.1 * i + 0.05, 0.5, 0.5);
+  const MapInsertStats stats = map.insert(cloud_of(pts), Eigen::Isometry3d::Identity());
+  EXPECT_EQ(stats.inserted, 5u);
+  EXPECT_EQ(stats.rejected_voxel_full, 4u);
+  EXPECT_EQ(map.voxel_count(), 1u);
+}
+
+TEST(LocalMap, RemovesExactlyTheVoxelsOutsideTheRadius) {
+  LocalMapParams params{.voxel_size_m = 0.5, .radius_m = 10};
+  LocalMap map(params);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-20, 20);
+  std::vector<Eigen::Vector3d> pts(4000);
+  for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng) * 0.1);
+  map.insert(cloud_of(pts), Eigen::Isometry3d::Identity());
+  const std::size_t before = map.size();
+  const Eigen::Vector3d centre(3, -2, 0);
+  std::size_t expected_kept = 0;
+  map.for_each_point([&](const MapPoint& p) {
+    const Eigen::Vector3d cell = (p.p_w / 0.5).array().floor();
+    if (((cell + Eigen::Vector3d::Constant(0.5)) * 0.5 - centre).norm() <= 10) ++expected_kept;
+  });
+  const std::size_t removed = map.remove_far_from(centre);
+  EXPECT_EQ(map.size(), expected_kept);
+  EXPECT_EQ(removed, before - expected_kept);
+  EXPECT_GT(removed, 0u);
+  map.for_each_point([&](const MapPoint& p) { EXPECT_LT((p.p_w - centre).norm(), 10 + 0.5 * std::sqrt(3.0)); });
+  // Freed voxels are reused: a re-insert restores the far points.
+  map.insert(cloud_of(pts), Eigen::Isometry3d::Identity());
+  EXPECT_EQ(map.size(), before);
+}
+
+TEST(LocalMap, KnnMatchesBruteForce) {
+  LocalMap map(LocalMapParams{.voxel_size_m = 0.3, .min_point_distance_m = 0.0});
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-2, 2);
+  std::vector<Eigen::Vector3d> pts(3000);
+  for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  ASSERT_EQ(map.insert(cloud_of(pts), Eigen::Isometry3d::Identity()).inserted, pts.size());
+  std::vector<Neighbour> out(8);
+  for (int q = 0; q < 300; ++q) {
+    const Eigen::Vector3d query(u(rng) * 1.5, u(rng) * 1.5, u(rng) * 1.5);
+    for (const std::size_t k : {std::size_t{1}, std::size_t{8}}) {
+      const double radius = 0.25;
+      const std::size_t found = map.knn(query, radius, std::span<Neighbour>(out.data(), k));
+      std::vector<double> brute;
+      for (const auto& p : pts)
+        if ((p - query).squaredNorm() < radius * radius) brute.push_back((p - query).squaredNorm());
+      std::sort(brute.begin(), brute.end());
+      ASSERT_EQ(found, std::min(k, brute.size()));
+      for (std::size_t i = 0; i < found; ++i) {
+        EXPECT_DOUBLE_EQ(out[i].distance_sq, brute[i]);
+        EXPECT_DOUBLE_EQ((map.point(out[i].index).p_w - query).squaredNorm(), brute[i]);
+      }
+    }
+  }
+}
+
+TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
+  const test::Room room = test::make_room();
+  const PointCloud surfaces = test::sample_room_surfaces(room, 0.1);
+  LocalMapParams params;
+  params.normals.min_other_line_neighbours = 0;  // samples, not a lidar scan
+  LocalMap map(params);
+  map.insert(surfaces, Eigen::Isometry3d::Identity());
+  std::size_t checked = 0;
+  map.for_each_point([&](const MapPoint& p) {
+    // The ceiling (no obstacle reaches it), away from the walls: its points
+    // fit its plane exactly.
+    const Eigen::Vector3d& q = p.p_w;
+    if (std::abs(q.z() - room.interior.hi.z()) > 1e-9) return;
+    const double dx = std::min(std::abs(q.x() - room.interior.lo.x()), std::abs(q.x() - room.interior.hi.x()));
+    const double dy = std::min(std::abs(q.y() - room.interior.lo.y()), std::abs(q.y() - room.interior.hi.y()));
+    if (dx < 0.3 || dy < 0.3) return;
+    ASSERT_TRUE(p.normal_valid);
+    EXPECT_NEAR(std::abs(p.normal_w.z()), 1.0, 1e-9);
+    EXPECT_LT(p.normal_w.z(), 0.0);  // toward the sensor at the origin, below the ceiling
+    ++checked;
+  });
+  EXPECT_GT(checked, 3000u);
+}
+
+}  // namespace
+}  // namespace tumble

@@ -1,0 +1,100 @@
+#include "daemon/health_state.hpp"
+
+#include <gtest/gtest.h>
+
+#include "tumble/status_t.hpp"
+
+namespace tumble::daemon {
+namespace {
+
+using S = HealthState;
+
+HealthInputs healthy() {
+  HealthInputs in;
+  in.imu_fresh = in.lidar_fresh = in.fuser_initialised = true;
+  in.consecutive_good_scans = 10;
+  return in;
+}
+
+HealthState next(S current, const HealthInputs& in, double time_in_state_s = 0.0) {
+  return next_health_state(current, time_in_state_s, in, HealthLimits{3.0, 5}).state;
+}
+
+TEST(HealthState, ValuesMatchTheStatusMessage) {
+  EXPECT_EQ(static_cast<int>(S::WaitingForSensors), static_cast<int>(tumble::status_t::STATE_WAITING_FOR_SENSORS));
+  EXPECT_EQ(static_cast<int>(S::Initialising), static_cast<int>(tumble::status_t::STATE_INITIALISING));
+  EXPECT_EQ(static_cast<int>(S::Tracking), static_cast<int>(tumble::status_t::STATE_TRACKING));
+  EXPECT_EQ(static_cast<int>(S::Degraded), static_cast<int>(tumble::status_t::STATE_DEGRADED));
+  EXPECT_EQ(static_cast<int>(S::Lost), static_cast<int>(tumble::status_t::STATE_LOST));
+  EXPECT_EQ(to_string(S::WaitingForSensors), "waiting_for_sensors");
+  EXPECT_EQ(to_string(S::Lost), "lost");
+}
+
+TEST(HealthState, WaitsUntilBothSensorsSendData) {
+  HealthInputs in;
+  EXPECT_EQ(next(S::WaitingForSensors, in), S::WaitingForSensors);
+  in.imu_fresh = true;
+  EXPECT_EQ(next(S::WaitingForSensors, in), S::WaitingForSensors);
+  in.lidar_fresh = true;
+  const HealthTransition t = next_health_state(S::WaitingForSensors, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Initialising);
+  EXPECT_FALSE(t.reason.empty());
+}
+
+TEST(HealthState, InitialisingNeedsTheFuserAndAGoodScan) {
+  HealthInputs in = healthy();
+  in.fuser_initialised = false;
+  EXPECT_EQ(next(S::Initialising, in), S::Initialising);
+  in.fuser_initialised = true;
+  in.consecutive_good_scans = 0;
+  EXPECT_EQ(next(S::Initialising, in), S::Initialising);
+  in.consecutive_good_scans = 1;
+  EXPECT_EQ(next(S::Initialising, in), S::Tracking);
+  in.lidar_fresh = false;
+  EXPECT_EQ(next(S::Initialising, in), S::WaitingForSensors);
+}
+
+TEST(HealthState, TrackingDegradesOnStaleSensorsBadScansOrDrops) {
+  EXPECT_EQ(next(S::Tracking, healthy()), S::Tracking);
+  HealthInputs in = healthy();
+  in.imu_fresh = false;
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_EQ(t.reason, "no IMU data");
+  in = healthy();
+  in.bad_scans_in_period = 1;
+  EXPECT_EQ(next(S::Tracking, in), S::Degraded);
+  in = healthy();
+  in.data_dropped = true;
+  EXPECT_EQ(next(S::Tracking, in), S::Degraded);
+}
+
+TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
+  HealthInputs in = healthy();
+  in.consecutive_good_scans = 4;
+  EXPECT_EQ(next(S::Degraded, in), S::Degraded);
+  in.consecutive_good_scans = 5;
+  EXPECT_EQ(next(S::Degraded, in), S::Tracking);
+  in.data_dropped = true;
+  EXPECT_EQ(next(S::Degraded, in), S::Degraded);
+}
+
+TEST(HealthState, DegradedTooLongIsLostAndLostIsSticky) {
+  HealthInputs in = healthy();
+  in.consecutive_good_scans = 0;
+  EXPECT_EQ(next(S::Degraded, in, 2.9), S::Degraded);
+  EXPECT_EQ(next(S::Degraded, in, 3.0), S::Lost);
+  EXPECT_EQ(next(S::Lost, healthy(), 100.0), S::Lost);  // good data does not clear it
+}
+
+TEST(HealthState, ReinitialisingTheOdometryLeavesLost) {
+  HealthInputs in = healthy();
+  in.fuser_initialised = false;
+  EXPECT_EQ(next(S::Lost, in), S::Initialising);
+  EXPECT_EQ(next(S::Tracking, in), S::Initialising);
+  in.imu_fresh = false;
+  EXPECT_EQ(next(S::Degraded, in), S::WaitingForSensors);
+}
+
+}  // namespace
+}  // namespace tumble::daemon

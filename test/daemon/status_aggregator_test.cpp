@@ -1,0 +1,180 @@
+#include "daemon/status_aggregator.hpp"
+
+#include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+namespace tumble::daemon {
+namespace {
+
+constexpr std::int64_t kSecond = 1'000'000'000;
+
+TEST(PeriodStats, MedianMinMaxOverThePeriod) {
+  PeriodStats<8> stats;
+  EXPECT_TRUE(std::isnan(stats.median()));
+  EXPECT_TRUE(std::isnan(stats.max()));
+  for (const float v : {5.0f, 1.0f, 3.0f}) stats.add(v);
+  EXPECT_EQ(stats.median(), 3.0f);
+  EXPECT_EQ(stats.min(), 1.0f);
+  EXPECT_EQ(stats.max(), 5.0f);
+  stats.add(4.0f);
+  EXPECT_EQ(stats.median(), 3.5f);
+  stats.reset();
+  EXPECT_EQ(stats.count(), 0u);
+  EXPECT_TRUE(std::isnan(stats.median()));
+}
+
+TEST(PeriodStats, MedianOfTheNewestWhenMoreThanTheWindowArrive) {
+  PeriodStats<4> stats;
+  for (int i = 0; i < 10; ++i) stats.add(static_cast<float>(i));  // newest four: 6 7 8 9
+  EXPECT_EQ(stats.median(), 7.5f);
+  EXPECT_EQ(stats.max(), 9.0f);  // max and min see everything
+  EXPECT_EQ(stats.min(), 0.0f);
+}
+
+class StatusAggregatorTest : public ::testing::Test {
+ protected:
+  StatusAggregatorTest()
+      : imu_ring_(10),
+        out_ring_(10),
+        reports_(16),
+        sink_(std::make_shared<spdlog::sinks::ostream_sink_st>(log_)),
+        logger_(std::make_shared<spdlog::logger>("test", sink_)),
+        aggregator_(HealthConfig{}, {"deskew", "icp"}, {{"imu", &imu_ring_, true}, {"odometry_out", &out_ring_, false}},
+                    counters_, reports_, 0, logger_) {
+    logger_->set_pattern("%l %v");
+  }
+
+  void report_scan(bool good, float icp_ms) {
+    RegistrationRecord r;
+    r.converged = good;
+    r.inlier_ratio = 0.6f;
+    r.degeneracy = 0.5f;
+    r.iterations = 10;
+    r.num_stages = 2;
+    r.stage_ms = {1.0f, icp_ms};
+    reports_.push(r);
+  }
+
+  void sensors_alive(std::int64_t now_ns) {
+    counters_.last_imu_steady_ns = now_ns;
+    counters_.last_lidar_steady_ns = now_ns;
+  }
+
+  int log_lines() const {
+    const std::string text = log_.str();
+    return static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  }
+
+  PipelineCounters counters_;
+  SpscRing<int> imu_ring_;
+  SpscRing<int> out_ring_;
+  SpscRing<RegistrationRecord> reports_;
+  std::ostringstream log_;
+  std::shared_ptr<spdlog::sinks::ostream_sink_st> sink_;
+  std::shared_ptr<spdlog::logger> logger_;
+  StatusAggregator aggregator_;
+  tumble::status_t status_{};
+};
+
+TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
+  counters_.imu_samples = 100;
+  counters_.lidar_packets = 750;
+  counters_.scans_registered = 10;
+  counters_.imu_bad_frames = 2;
+  counters_.scans_short_trajectory = 3;
+  counters_.gyro_saturated_samples[1] = 4;
+  counters_.imu_clock.offset_s = 0.25;
+  for (int i = 0; i < 5; ++i) imu_ring_.push(i);
+  aggregator_.tick(2 * kSecond, 123, status_);
+  EXPECT_EQ(status_.utime, 123);
+  EXPECT_FLOAT_EQ(status_.imu_rate_hz, 50.0f);  // 100 samples in 2 s
+  EXPECT_FLOAT_EQ(status_.lidar_packet_rate_hz, 375.0f);
+  EXPECT_FLOAT_EQ(status_.scan_rate_hz, 5.0f);
+  EXPECT_FLOAT_EQ(status_.uptime_s, 2.0f);
+  EXPECT_EQ(status_.imu_bad_frames, 2);
+  EXPECT_EQ(status_.scans_short_trajectory, 3);
+  EXPECT_EQ(status_.gyro_saturated_samples[1], 4);
+  EXPECT_EQ(status_.imu_clock_offset_s, 0.25);
+  ASSERT_EQ(status_.num_rings, 2);
+  EXPECT_EQ(status_.ring_name[0], "imu");
+  EXPECT_FLOAT_EQ(status_.ring_fill[0], 0.5f);
+  counters_.imu_samples = 200;
+  aggregator_.tick(3 * kSecond, 124, status_);
+  EXPECT_FLOAT_EQ(status_.imu_rate_hz, 100.0f);  // per period, not since start
+}
+
+TEST_F(StatusAggregatorTest, StageTimesAreMedianAndMaxOfThePeriod) {
+  report_scan(true, 10.0f);
+  report_scan(true, 30.0f);
+  report_scan(true, 20.0f);
+  aggregator_.tick(kSecond, 0, status_);
+  ASSERT_EQ(status_.num_stages, 2);
+  EXPECT_EQ(status_.stage_name[1], "icp");
+  EXPECT_FLOAT_EQ(status_.stage_median_ms[1], 20.0f);
+  EXPECT_FLOAT_EQ(status_.stage_max_ms[1], 30.0f);
+  EXPECT_FLOAT_EQ(status_.icp_iterations_median, 10.0f);
+  EXPECT_FLOAT_EQ(status_.inlier_ratio_median, 0.6f);
+  aggregator_.tick(2 * kSecond, 0, status_);
+  EXPECT_TRUE(std::isnan(status_.stage_median_ms[1]));  // nothing in this period
+}
+
+TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChange) {
+  aggregator_.tick(kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::WaitingForSensors);
+  EXPECT_EQ(status_.state_name, "waiting_for_sensors");
+  EXPECT_EQ(log_lines(), 0);
+
+  sensors_alive(2 * kSecond);
+  aggregator_.tick(2 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
+  EXPECT_EQ(log_lines(), 1);
+
+  counters_.fuser_initialised = true;
+  report_scan(true, 5.0f);
+  sensors_alive(3 * kSecond);
+  aggregator_.tick(3 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  EXPECT_EQ(status_.state, static_cast<int>(tumble::status_t::STATE_TRACKING));
+
+  imu_ring_.push(1);
+  for (int i = 0; i < 10; ++i) imu_ring_.push(i);  // overflow: sensor data dropped
+  sensors_alive(4 * kSecond);
+  aggregator_.tick(4 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+
+  for (int i = 0; i < 5; ++i) report_scan(true, 5.0f);
+  sensors_alive(5 * kSecond);
+  aggregator_.tick(5 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+
+  report_scan(false, 5.0f);  // not converged
+  sensors_alive(6 * kSecond);
+  aggregator_.tick(6 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  aggregator_.tick(10 * kSecond, 0, status_);  // sensors silent, degraded for 4 s
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);
+
+  EXPECT_EQ(log_lines(), 6);  // one per change, no more
+  EXPECT_NE(log_.str().find("warning state degraded -> lost: degraded for too long"), std::string::npos) << log_.str();
+  EXPECT_NE(aggregator_.summary().find("lost"), std::string::npos);
+}
+
+TEST_F(StatusAggregatorTest, OutputRingDropsDoNotDegradeHealth) {
+  counters_.fuser_initialised = true;
+  sensors_alive(kSecond);
+  report_scan(true, 1.0f);
+  aggregator_.tick(kSecond, 0, status_);
+  aggregator_.tick(kSecond, 0, status_);
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  for (int i = 0; i < 20; ++i) out_ring_.push(i);
+  aggregator_.tick(kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  EXPECT_EQ(status_.ring_drops[1], 10);
+}
+
+}  // namespace
+}  // namespace tumble::daemon

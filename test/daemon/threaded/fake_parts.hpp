@@ -1,0 +1,255 @@
+// Stand-ins for the drivers and the core, to run the daemon's threads and
+// queues end to end. A FakeRecording is a small merged "pcap pair": lidar
+// packets and IMU reads with arrival times, delivered in arrival order on the
+// io thread, as the real replay sources must. Scan s covers
+// [s * scan_s, (s + 1) * scan_s); its packets carry 4 points each.
+#pragma once
+
+#include <algorithm>
+#include <array>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
+#include <cstdint>
+#include <cstring>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "daemon/pipeline.hpp"
+#include "daemon/seams.hpp"
+#include "tumble/scan_t.hpp"
+
+namespace tumble::daemon::fake {
+
+constexpr double kScanS = 0.1;
+constexpr int kPacketsPerScan = 10;
+constexpr int kPointsPerPacket = 4;
+constexpr double kImuPeriodS = 0.005;
+constexpr int kImuSamplesBeforeInitialised = 4;
+
+struct Event {
+  double arrival_s;
+  bool lidar;
+  std::array<std::uint8_t, 16> bytes;  // lidar: first point time, scan, packet; IMU: sample time
+};
+
+class FakeRecording {
+ public:
+  // scans full revolutions of lidar data and IMU samples spanning them.
+  explicit FakeRecording(boost::asio::io_context& io, int scans, bool ends = true) : io_(io), ends_(ends) {
+    for (int s = 0; s < scans; ++s) {
+      for (int p = 0; p < kPacketsPerScan; ++p) {
+        const double first_point_s = s * kScanS + p * (kScanS / kPacketsPerScan);
+        Event e{first_point_s + kScanS / kPacketsPerScan, true, {}};
+        const std::uint32_t ids[2] = {static_cast<std::uint32_t>(s), static_cast<std::uint32_t>(p)};
+        std::memcpy(e.bytes.data(), &first_point_s, 8);
+        std::memcpy(e.bytes.data() + 8, ids, 8);
+        events_.push_back(e);
+      }
+    }
+    for (int k = 0; k * kImuPeriodS <= scans * kScanS; ++k) {
+      const double t = k * kImuPeriodS;
+      Event e{t + 0.001, false, {}};
+      std::memcpy(e.bytes.data(), &t, 8);
+      events_.push_back(e);
+    }
+    std::stable_sort(events_.begin(), events_.end(),
+                     [](const Event& a, const Event& b) { return a.arrival_s < b.arrival_s; });
+  }
+
+  class Source : public LidarDatagramSource, public ImuByteSource {
+   public:
+    explicit Source(FakeRecording& recording) : recording_(recording) {}
+    void start(std::function<void(const LidarDatagram&)> on_datagram, std::function<void()> on_end) override {
+      recording_.on_datagram_ = std::move(on_datagram);
+      recording_.on_lidar_end_ = std::move(on_end);
+      recording_.started();
+    }
+    void start(std::function<void(const ImuBytes&)> on_bytes, std::function<void()> on_end) override {
+      recording_.on_bytes_ = std::move(on_bytes);
+      recording_.on_imu_end_ = std::move(on_end);
+      recording_.started();
+    }
+    void stop() override { recording_.stopped_ = true; }
+
+   private:
+    FakeRecording& recording_;
+  };
+
+  std::unique_ptr<LidarDatagramSource> lidar_source() { return std::make_unique<Source>(*this); }
+  std::unique_ptr<ImuByteSource> imu_source() { return std::make_unique<Source>(*this); }
+
+  // Called (on the io thread) with the arrival time of each event before it is delivered.
+  std::function<void(double)> before_event;
+
+ private:
+  void started() {
+    if (++starts_ == 2) deliver(0);
+  }
+
+  // One event per io_context handler, so stop() can interleave.
+  void deliver(std::size_t i) {
+    if (stopped_) return;
+    if (i == events_.size()) {
+      if (ends_) {
+        on_lidar_end_();
+        on_imu_end_();
+      }
+      return;
+    }
+    const Event& e = events_[i];
+    if (before_event) before_event(e.arrival_s);
+    if (e.lidar) {
+      on_datagram_(LidarDatagram{e.arrival_s, 0x0A000001, 6699, 6699, e.bytes});
+    } else {
+      on_bytes_(ImuBytes{e.arrival_s, std::span<const std::uint8_t>(e.bytes.data(), 8)});
+    }
+    boost::asio::post(io_, [this, i] { deliver(i + 1); });
+  }
+
+  boost::asio::io_context& io_;
+  bool ends_;
+  std::vector<Event> events_;
+  int starts_ = 0;
+  bool stopped_ = false;
+  std::function<void(const LidarDatagram&)> on_datagram_;
+  std::function<void(const ImuBytes&)> on_bytes_;
+  std::function<void()> on_lidar_end_;
+  std::function<void()> on_imu_end_;
+};
+
+class FakeLidarDecoder : public LidarDecoder {
+ public:
+  bool decode(const LidarDatagram& d, PointBlock& block) override {
+    ++packets_;
+    double first_point_s = 0.0;
+    std::uint32_t ids[2];
+    std::memcpy(&first_point_s, d.payload.data(), 8);
+    std::memcpy(ids, d.payload.data() + 8, 8);
+    block.arrival_s = d.arrival_s;
+    block.count = kPointsPerPacket;
+    for (int i = 0; i < kPointsPerPacket; ++i) {
+      LidarPoint& p = block.points[static_cast<std::size_t>(i)];
+      p.t_s = first_point_s + i * (kScanS / kPacketsPerScan / kPointsPerPacket);
+      p.x_m = static_cast<float>(ids[0]);  // scan index
+      p.y_m = static_cast<float>(ids[1]);  // packet index
+    }
+    return true;
+  }
+  void report(PipelineCounters& counters) const override { counters.lidar_packets.store(packets_); }
+
+ private:
+  std::int64_t packets_ = 0;
+};
+
+class FakeImuDecoder : public ImuDecoder {
+ public:
+  void decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) override {
+    ++frames_;
+    ImuSample sample;
+    std::memcpy(&sample.t_s, bytes.bytes.data(), 8);
+    sample.accel_m_s2 = Eigen::Vector3d(0.0, 0.0, 9.81);
+    sample.gyro_saturated[2] = frames_ % 50 == 0;
+    emit(sample);
+  }
+  void report(PipelineCounters& counters) const override { counters.imu_frames.store(frames_); }
+
+ private:
+  std::int64_t frames_ = 0;
+};
+
+// Moves at 1 m/s along x once initialised.
+class FakeFuser : public FuserStage {
+ public:
+  bool add_imu(const ImuSample& sample, TrajectoryRecord& out) override {
+    if (++samples_ <= kImuSamplesBeforeInitialised) return false;
+    out = TrajectoryRecord{};
+    out.t_s = sample.t_s;
+    out.p_w_m = {sample.t_s, 0.0, 0.0};
+    out.v_w_m_s = {1.0, 0.0, 0.0};
+    out.lidar_corrected = corrections_ > 0;
+    return true;
+  }
+  void add_correction(const RegistrationRecord&) override { ++corrections_; }
+  int corrections() const { return corrections_; }
+
+ private:
+  int samples_ = 0;
+  int corrections_ = 0;
+};
+
+// Assembles scans by the scan index in x_m; reports what trajectory it was given.
+class FakeRegistration : public RegistrationStage {
+ public:
+  std::function<void()> on_register;  // e.g. to throw
+
+  std::vector<std::string> stage_names() const override { return {"assemble", "icp"}; }
+
+  bool add_points(const PointBlock& block) override {
+    const auto scan = static_cast<std::int64_t>(block.points[0].x_m);
+    if (!current_.empty() && scan != current_index_) {
+      held_ = std::move(current_);
+      held_index_ = current_index_;
+      current_.clear();
+    }
+    current_index_ = scan;
+    current_.insert(current_.end(), block.points.begin(), block.points.begin() + block.count);
+    return !held_.empty();
+  }
+  TimeSpan held_scan_span() const override { return {held_.front().t_s, held_.back().t_s}; }
+
+  void register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,
+                          tumble::scan_t* viewer) override {
+    if (on_register) on_register();
+    out = RegistrationRecord{};
+    out.t_s = held_.front().t_s;
+    out.scan_index = held_index_;
+    out.position_m = {static_cast<double>(trajectory.size()), trajectory.empty() ? -1.0 : trajectory.front().t_s,
+                      trajectory.empty() ? -1.0 : trajectory.back().t_s};
+    out.iterations = static_cast<std::int32_t>(held_.size());
+    out.converged = true;
+    out.inlier_ratio = 0.6f;
+    out.degeneracy = 0.5f;
+    out.num_stages = 2;
+    out.stage_ms = {0.5f, 2.0f};
+    if (viewer != nullptr) {
+      viewer->scan_index = held_index_;
+      viewer->num_points = static_cast<std::int32_t>(held_.size());
+      viewer->x_m.assign(held_.size(), 0.0f);
+      viewer->y_m.assign(held_.size(), 0.0f);
+      viewer->z_m.assign(held_.size(), 0.0f);
+      viewer->sigma_s_m.assign(held_.size(), 0.0f);
+      viewer->weight.assign(held_.size(), 1.0f);
+    }
+    held_.clear();
+  }
+  void discard_held_scan() override { held_.clear(); }
+
+ private:
+  std::vector<LidarPoint> current_, held_;
+  std::int64_t current_index_ = -1, held_index_ = -1;
+};
+
+struct FakeParts {
+  PipelineParts parts;
+  FakeFuser* fuser;
+  FakeRegistration* registration;
+};
+
+inline FakeParts make_parts(FakeRecording& recording) {
+  FakeParts f;
+  f.parts.lidar_source = recording.lidar_source();
+  f.parts.imu_source = recording.imu_source();
+  f.parts.lidar_decoder = std::make_unique<FakeLidarDecoder>();
+  f.parts.imu_decoder = std::make_unique<FakeImuDecoder>();
+  auto fuser = std::make_unique<FakeFuser>();
+  auto registration = std::make_unique<FakeRegistration>();
+  f.fuser = fuser.get();
+  f.registration = registration.get();
+  f.parts.fuser = std::move(fuser);
+  f.parts.registration = std::move(registration);
+  return f;
+}
+
+}  // namespace tumble::daemon::fake

@@ -1,0 +1,212 @@
+// The pipeline's threads and queues end to end, with fake drivers and core.
+#include "daemon/pipeline.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <future>
+#include <lcm/lcm-cpp.hpp>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "test/daemon/threaded/fake_parts.hpp"
+
+namespace tumble::daemon {
+namespace {
+
+struct Collector : RegistrationObserver {
+  std::vector<RegistrationRecord> records;
+  void on_registration(const RegistrationRecord& r) override {
+    records.push_back(r);
+    records.back().scan_complete_steady_ns = 0;  // wall-clock dependent
+  }
+};
+
+template <class Message>
+struct Inbox {
+  std::vector<Message> messages;
+  void handle(const lcm::ReceiveBuffer*, const std::string&, const Message* m) { messages.push_back(*m); }
+};
+
+DaemonConfig small_rings() {
+  DaemonConfig c;
+  c.daemon.imu_ring_capacity = 4;
+  c.daemon.lidar_ring_capacity = 4;
+  c.daemon.correction_ring_capacity = 2;
+  c.daemon.odometry_ring_capacity = 4;
+  c.daemon.registration_ring_capacity = 2;
+  c.daemon.trajectory_buffer_capacity = 256;
+  return c;
+}
+
+struct ReplayResult {
+  std::vector<RegistrationRecord> registrations;
+  std::uint64_t odometry_published = 0;
+  std::uint64_t ring_drops = 0;
+  std::int64_t scans_short_trajectory = 0;
+  std::int64_t scans_dropped = 0;
+  std::int64_t imu_samples = 0;
+  std::int64_t gyro_z_saturated = 0;
+  int corrections = 0;
+  std::vector<tumble::registration_t> poses;
+  std::vector<tumble::scan_t> scans;
+};
+
+// Replays a fake recording to its end and drains, as tumbled --replay does.
+ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy) {
+  lcm::LCM lcm("memq://");
+  Inbox<tumble::registration_t> poses;
+  Inbox<tumble::scan_t> viewer_scans;
+  lcm.subscribe("T_POSE", &Inbox<tumble::registration_t>::handle, &poses);
+  lcm.subscribe("T_SCAN", &Inbox<tumble::scan_t>::handle, &viewer_scans);
+  ReplayResult result;
+  {
+    Pipeline pipeline(config, policy);
+    fake::FakeRecording recording(pipeline.io_context(), scans);
+    fake::FakeParts f = fake::make_parts(recording);
+    Collector collector;
+    LcmPublisher publisher(lcm, LcmChannels::with_prefix("T_"), pipeline.publisher_inputs(), {"assemble", "icp"},
+                           pipeline.output_wakeup());
+    publisher.add_observer(collector);
+    publisher.start();
+    std::promise<void> ended;
+    std::atomic<bool> reported{false};
+    pipeline.start(std::move(f.parts), [&] {
+      if (pipeline.input_ended() && !reported.exchange(true)) ended.set_value();
+    });
+    ended.get_future().wait();
+    pipeline.stop(Pipeline::Drain::Yes);
+    publisher.stop();
+    EXPECT_FALSE(pipeline.failure());
+    result.registrations = collector.records;
+    result.odometry_published = publisher.published(LcmPublisher::kOdometry);
+    for (const NamedRing& r : pipeline.rings())
+      if (r.name != "scan_reports") result.ring_drops += r.ring->dropped();
+    const PipelineCounters& c = pipeline.counters();
+    result.scans_short_trajectory = c.scans_short_trajectory;
+    result.scans_dropped = c.scans_dropped;
+    result.imu_samples = c.imu_samples;
+    result.gyro_z_saturated = c.gyro_saturated_samples[2];
+    result.corrections = f.fuser->corrections();
+  }
+  while (lcm.handleTimeout(0) > 0) {
+  }
+  result.poses = poses.messages;
+  result.scans = viewer_scans.messages;
+  return result;
+}
+
+TEST(Pipeline, ReplayAtMaxRateRegistersEveryScanWithItsWholeTrajectory) {
+  constexpr int kScans = 12;
+  const ReplayResult r = replay(kScans, small_rings(), OverflowPolicy::Wait);
+  ASSERT_EQ(r.registrations.size(), static_cast<std::size_t>(kScans - 1));  // the last scan never closes
+  for (std::size_t i = 0; i < r.registrations.size(); ++i) {
+    const RegistrationRecord& reg = r.registrations[i];
+    EXPECT_EQ(reg.scan_index, static_cast<std::int64_t>(i));
+    EXPECT_EQ(reg.iterations, fake::kPacketsPerScan * fake::kPointsPerPacket);  // every point arrived
+    const double start = reg.t_s, end = start + fake::kScanS - fake::kScanS / 40;
+    if (i > 0) {
+      EXPECT_LE(reg.position_m[1], start) << i;  // trajectory from before the first point
+    }
+    EXPECT_GE(reg.position_m[2], end) << i;  // to after the last
+  }
+  EXPECT_EQ(r.ring_drops, 0u);
+  EXPECT_EQ(r.scans_dropped, 0);
+  EXPECT_EQ(r.scans_short_trajectory, 0);
+  EXPECT_EQ(r.corrections, kScans - 1);
+  EXPECT_EQ(r.odometry_published, static_cast<std::uint64_t>(r.imu_samples - fake::kImuSamplesBeforeInitialised));
+  EXPECT_EQ(r.gyro_z_saturated, r.imu_samples / 50);
+}
+
+TEST(Pipeline, ReplayAtMaxRateIsDeterministic) {
+  const ReplayResult first = replay(8, small_rings(), OverflowPolicy::Wait);
+  const ReplayResult second = replay(8, small_rings(), OverflowPolicy::Wait);
+  ASSERT_EQ(first.registrations.size(), second.registrations.size());
+  for (std::size_t i = 0; i < first.registrations.size(); ++i) {
+    const RegistrationRecord& a = first.registrations[i];
+    const RegistrationRecord& b = second.registrations[i];
+    EXPECT_EQ(a.t_s, b.t_s);
+    EXPECT_EQ(a.scan_index, b.scan_index);
+    EXPECT_EQ(a.position_m, b.position_m);
+    EXPECT_EQ(a.iterations, b.iterations);
+  }
+  EXPECT_EQ(first.odometry_published, second.odometry_published);
+}
+
+TEST(Pipeline, LcmSubscribersGetEveryPose) {
+  DaemonConfig config = small_rings();
+  config.lcm.publish_scan = true;
+  const ReplayResult r = replay(6, config, OverflowPolicy::Wait);
+  ASSERT_EQ(r.poses.size(), r.registrations.size());
+  for (std::size_t i = 0; i < r.poses.size(); ++i) {
+    EXPECT_EQ(r.poses[i].scan_index, r.registrations[i].scan_index);
+    EXPECT_EQ(r.poses[i].stage_name, (std::vector<std::string>{"assemble", "icp"}));
+  }
+  ASSERT_FALSE(r.scans.empty());  // latest-wins: at least the newest
+  EXPECT_EQ(r.scans.back().scan_index, 4);
+  EXPECT_EQ(r.scans.back().num_points, fake::kPacketsPerScan * fake::kPointsPerPacket);
+}
+
+TEST(Pipeline, StopNowReturnsWithDataStillFlowing) {
+  lcm::LCM lcm("memq://");
+  Pipeline pipeline(DaemonConfig{}, OverflowPolicy::DropOldest);
+  fake::FakeRecording recording(pipeline.io_context(), 200, /*ends=*/false);
+  fake::FakeParts f = fake::make_parts(recording);
+  LcmPublisher publisher(lcm, LcmChannels::with_prefix("T_"), pipeline.publisher_inputs(), {},
+                         pipeline.output_wakeup());
+  publisher.start();
+  pipeline.start(std::move(f.parts), [] {});
+  while (publisher.published(LcmPublisher::kPose) < 3) std::this_thread::yield();
+  pipeline.stop(Pipeline::Drain::No);
+  publisher.stop();
+  EXPECT_FALSE(pipeline.failure());
+  EXPECT_GE(pipeline.counters().scans_registered.load(), 3);
+}
+
+TEST(Pipeline, AThreadThatThrowsIsReported) {
+  Pipeline pipeline(DaemonConfig{}, OverflowPolicy::DropOldest);  // rings big enough to drop nothing
+  fake::FakeRecording recording(pipeline.io_context(), 5);
+  fake::FakeParts f = fake::make_parts(recording);
+  f.registration->on_register = [] { throw std::runtime_error("boom"); };
+  std::promise<void> failed;
+  std::atomic<bool> reported{false};
+  pipeline.start(std::move(f.parts), [&] {
+    if (pipeline.failure() && !reported.exchange(true)) failed.set_value();
+  });
+  failed.get_future().wait();
+  EXPECT_EQ(pipeline.failure(), "tumble-register: boom");
+  pipeline.stop(Pipeline::Drain::No);
+}
+
+TEST(Pipeline, AStuckThreadIsNotAlive) {
+  Pipeline pipeline(DaemonConfig{}, OverflowPolicy::DropOldest);
+  fake::FakeRecording recording(pipeline.io_context(), 5, /*ends=*/false);
+  fake::FakeParts f = fake::make_parts(recording);
+  std::promise<void> entered, release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<bool> first{true};
+  f.registration->on_register = [&] {
+    if (!first.exchange(false)) return;
+    entered.set_value();
+    released.wait();
+  };
+  pipeline.start(std::move(f.parts), [] {});
+  entered.get_future().wait();
+  pipeline.threads_alive();                // records the heartbeats
+  EXPECT_FALSE(pipeline.threads_alive());  // the registration thread has not moved
+  release.set_value();
+  while (!pipeline.threads_alive()) std::this_thread::yield();
+  pipeline.stop(Pipeline::Drain::No);
+}
+
+TEST(Pipeline, RejectsSourcesWithoutTheirStages) {
+  Pipeline pipeline(small_rings(), OverflowPolicy::DropOldest);
+  fake::FakeRecording recording(pipeline.io_context(), 1);
+  PipelineParts parts;
+  parts.lidar_source = recording.lidar_source();
+  EXPECT_THROW(pipeline.start(std::move(parts), [] {}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tumble::daemon

@@ -1,0 +1,99 @@
+// tumbled as systemd runs it: notification socket, watchdog, SIGTERM.
+#include <gtest/gtest.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <sys/un.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <string>
+
+#include "test/daemon/process.hpp"
+
+namespace tumble::daemon {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kTumbled = std::string(TUMBLE_BINARY_DIR) + "/daemon/tumbled";
+
+class NotifySocket {
+ public:
+  NotifySocket() : path_(fs::temp_directory_path() / ("tumble_sd_" + std::to_string(::getpid()))) {
+    fd_ = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+    sockaddr_un address{};
+    address.sun_family = AF_UNIX;
+    path_.string().copy(address.sun_path, sizeof(address.sun_path) - 1);
+    fs::remove(path_);
+    bound_ = ::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
+  }
+  ~NotifySocket() {
+    ::close(fd_);
+    fs::remove(path_);
+  }
+  bool bound() const { return bound_; }
+  std::string path() const { return path_.string(); }
+
+  // Reads notifications until one contains `wanted`; nullopt after 60 s of silence.
+  std::optional<std::string> wait_for(const std::string& wanted) {
+    for (;;) {
+      pollfd p{fd_, POLLIN, 0};
+      if (::poll(&p, 1, 60'000) <= 0) return std::nullopt;
+      char buffer[1024];
+      const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
+      if (n <= 0) return std::nullopt;
+      const std::string message(buffer, static_cast<std::size_t>(n));
+      if (message.find(wanted) != std::string::npos) return message;
+    }
+  }
+
+ private:
+  fs::path path_;
+  int fd_ = -1;
+  bool bound_ = false;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+TEST(TumbledProcess, NotifiesSystemdPingsTheWatchdogAndStopsOnSigterm) {
+  NotifySocket socket;
+  ASSERT_TRUE(socket.bound());
+  const fs::path base = fs::temp_directory_path() / ("tumble_proc_" + std::to_string(::getpid()));
+  const std::string out = base.string() + ".out", err = base.string() + ".err";
+  const int pid = test::spawn_process({kTumbled, "--lcm-url", "memq://", "--log-level", "info"},
+                                      {"NOTIFY_SOCKET=" + socket.path(), "WATCHDOG_USEC=400000"}, out, err);
+  const bool ready = socket.wait_for("READY=1").has_value();
+  const bool watchdog = ready && socket.wait_for("WATCHDOG=1").has_value();
+  const bool status = watchdog && socket.wait_for("STATUS=waiting_for_sensors").has_value();
+  ::kill(pid, SIGTERM);
+  const bool stopping = socket.wait_for("STOPPING=1").has_value();
+  const int code = test::wait_process(pid);
+  const std::string log = read_file(err);
+  fs::remove(out);
+  fs::remove(err);
+  EXPECT_TRUE(ready) << log;
+  EXPECT_TRUE(watchdog) << log;
+  EXPECT_TRUE(status) << log;
+  EXPECT_TRUE(stopping) << log;
+  EXPECT_EQ(code, 0) << log;
+  EXPECT_NE(log.find("Terminated: stopping"), std::string::npos) << log;
+  EXPECT_NE(log.find("stopped"), std::string::npos) << log;
+}
+
+TEST(TumbledProcess, AnLcmUrlThatCannotStartExitsOne) {
+  const test::ProcessResult r = test::run_process({kTumbled, "--lcm-url", "nosuchprovider://x"});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("lcm.url"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace tumble::daemon

@@ -1,0 +1,85 @@
+#include "tools/sim/imu_model.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace tumble::sim {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+constexpr double kMicroG = kGravity_m_s2 * 1e-6;
+constexpr std::uint32_t kTicksPerSecond = 10'000;
+constexpr std::uint64_t kSampleTimeFineWrap = 864'000'000;  // one day of ticks
+constexpr double kBiasStabilityHorizonS = 100.0;
+
+// Clips each axis at +-range like the device: the value becomes the limit and
+// the axis's bit (first_bit + axis) is set.
+std::uint32_t clip(Eigen::Vector3d& v, double range, std::uint32_t first_bit) {
+  std::uint32_t status = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    if (std::abs(v[axis]) > range) {
+      v[axis] = std::copysign(range, v[axis]);
+      status |= first_bit << axis;
+    }
+  }
+  return status;
+}
+
+}  // namespace
+
+ImuKinematics imu_kinematics(const MotionState& body, const Eigen::Isometry3d& T_LI) {
+  const Eigen::Vector3d& r = T_LI.translation();
+  const Eigen::Vector3d& w = body.omega_b;
+  const Eigen::Vector3d gravity_w(0.0, 0.0, -kGravity_m_s2);
+  const Eigen::Vector3d f_body =
+      body.T_wb.linear().transpose() * (body.a_w - gravity_w) + body.alpha_b.cross(r) + w.cross(w.cross(r));
+  const Eigen::Matrix3d R_il = T_LI.linear().transpose();
+  return ImuKinematics{R_il * f_body, R_il * w};
+}
+
+double imu_sample_time_s(const ImuClock& clock, int rate_hz, std::uint64_t k) {
+  return clock.first_sample_s + static_cast<double>(k) / rate_hz / (1.0 + clock.drift_ppm * 1e-6);
+}
+
+ImuModel::ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI,
+                   const Motion& motion, std::uint64_t noise_seed, bool noise_enabled)
+    : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"), noise_enabled_(noise_enabled) {
+  gyro_bias_ = noise_enabled_ ? gaussian3(config_.gyro_initial_bias_sigma_deg_s * kDegToRad) : Eigen::Vector3d::Zero();
+  accel_bias_ = noise_enabled_ ? gaussian3(config_.accel_initial_bias_sigma_m_s2) : Eigen::Vector3d::Zero();
+  initial_gyro_bias_ = gyro_bias_;
+  initial_accel_bias_ = accel_bias_;
+}
+
+Eigen::Vector3d ImuModel::gaussian3(double sigma) {
+  const double x = rng_.normal(sigma), y = rng_.normal(sigma), z = rng_.normal(sigma);
+  return {x, y, z};
+}
+
+bool ImuModel::next(double duration_s, ImuMeasurement& out) {
+  const double t_s = imu_sample_time_s(clock_, config_.rate_hz, index_);
+  if (t_s > duration_s) return false;
+  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s), T_LI_);
+  out.t_s = t_s;
+  out.gyro_rad_s = ideal.omega_i;
+  out.accel_m_s2 = ideal.specific_force_i;
+  if (noise_enabled_) {
+    // White noise of density N sampled at f has sigma N sqrt(f).
+    const double sqrt_rate = std::sqrt(static_cast<double>(config_.rate_hz));
+    out.gyro_rad_s += gyro_bias_ + gaussian3(config_.gyro_noise_density_deg_s_sqrt_hz * kDegToRad * sqrt_rate);
+    out.accel_m_s2 += accel_bias_ + gaussian3(config_.accel_noise_density_ug_sqrt_hz * kMicroG * sqrt_rate);
+    const double walk = std::sqrt(1.0 / config_.rate_hz / kBiasStabilityHorizonS);
+    gyro_bias_ += gaussian3(config_.gyro_bias_stability_deg_h * kDegToRad / 3600.0 * walk);
+    accel_bias_ += gaussian3(config_.accel_bias_stability_ug * kMicroG * walk);
+  }
+  std::uint32_t status = clip(out.accel_m_s2, config_.accel_range_m_s2, kStatusAccelClipX);
+  status |= clip(out.gyro_rad_s, config_.gyro_range_deg_s * kDegToRad, kStatusGyroClipX);
+  if (status != 0) status |= kStatusAnyClip;
+  out.status_word = status;
+  const std::uint64_t ticks = clock_.first_sample_time_fine + index_ * (kTicksPerSecond / config_.rate_hz);
+  out.sample_time_fine = static_cast<std::uint32_t>(ticks % kSampleTimeFineWrap);
+  out.packet_counter = static_cast<std::uint16_t>(clock_.first_packet_counter + index_);
+  ++index_;
+  return true;
+}
+
+}  // namespace tumble::sim

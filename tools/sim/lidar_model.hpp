@@ -1,0 +1,87 @@
+// The RS-16 as a sensor: which ray each laser fires when, what it measures,
+// and the MSOP packet that carries it (single return, rs16.md). Every return
+// is cast from the lidar pose at its own firing time, so motion skews the
+// scan exactly as it does on the real unit.
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <cstdint>
+
+#include "drivers/rs16/msop_encode.hpp"
+#include "tools/sim/motion.hpp"
+#include "tools/sim/scene.hpp"
+#include "tools/sim/sensor_rng.hpp"
+
+namespace tumble::sim {
+
+// Firing pattern of rs16.md, in nanoseconds (all exact on a 100 ns grid).
+inline constexpr std::int64_t kRs16LaserSpacingNs = 2'800;
+inline constexpr std::int64_t kRs16SequencePeriodNs = 55'500;
+inline constexpr std::int64_t kRs16BlockPeriodNs = 2 * kRs16SequencePeriodNs;
+inline constexpr std::int64_t kRs16PacketPeriodNs = 12 * kRs16BlockPeriodNs;
+// From the packet's first firing (its header time) to its last.
+inline constexpr std::int64_t kRs16PacketSpanNs = 11 * kRs16BlockPeriodNs + kRs16SequencePeriodNs + 15 * kRs16LaserSpacingNs;
+
+struct LidarConfig {
+  int rpm = 600;                           // 300, 600 or 1200
+  double range_noise_m = 0.02;             // 1 sigma, along the beam
+  double min_range_m = 0.4;
+  double max_range_m = 150.0;
+  double dropout_probability = 0.005;      // returns lost at random
+  double incidence_falloff_exponent = 1.0;  // reflectivity ~ surface * cos(incidence)^k
+  double vertical_offset_sigma_deg = 0.1;  // per-unit deviation of each laser from its design angle
+  double temperature_c = 38.0;
+};
+
+// What makes one physical unit differ from the design: drawn once per unit seed.
+struct LidarUnit {
+  std::array<double, 16> vertical_angles_deg{};  // on the DIFOP's 0.0001 deg grid
+  std::array<std::uint8_t, 6> serial{};
+};
+LidarUnit make_lidar_unit(std::uint64_t unit_seed, double vertical_offset_sigma_deg);
+
+// The beam of one firing in the lidar frame: it leaves the optical centre,
+// R = 0.03825 m out along the azimuth, so that the decoder's
+// x = d cos w cos a + R cos a, y = -d cos w sin a - R sin a, z = d sin w
+// is exactly origin + d * direction.
+struct Beam {
+  Eigen::Vector3d origin_l;
+  Eigen::Vector3d direction_l;  // unit
+};
+Beam rs16_beam(double azimuth_deg, double vertical_deg);
+
+// Block azimuths in the packet's 0.01 deg units, as the motor encoder reads
+// them at each block's first firing.
+std::array<std::uint16_t, 12> block_azimuths_centideg(double azimuth_at_zero_deg, double motor_deg_per_s,
+                                                      std::int64_t first_firing_ns);
+// The azimuth the decoder assigns to channel c of block b (rs16.md's
+// interpolation, including its last-block and FOV-gap rules), so that the
+// simulated beam is the one the decoder will reconstruct.
+double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg, int block, int channel, int rpm);
+
+class LidarModel {
+ public:
+  // azimuth_at_zero_deg: where the motor points at t = 0 (it is already spinning).
+  LidarModel(const LidarConfig& config, const LidarUnit& unit, const Scene& scene, const Motion& motion,
+             std::uint64_t noise_seed, double azimuth_at_zero_deg);
+
+  // The packet whose first firing is at first_firing_ns (run time); utc_time_ns
+  // is left for the caller's clock. Every firing must lie inside the motion.
+  void fill_packet(std::int64_t first_firing_ns, rs16::MsopPacketData& out);
+
+  double motor_deg_per_s() const { return motor_deg_per_s_; }
+
+ private:
+  rs16::ChannelReturn fire(double t_s, double azimuth_deg, int laser);
+
+  LidarConfig config_;
+  LidarUnit unit_;
+  const Scene& scene_;
+  const Motion& motion_;
+  SensorRng rng_;
+  double azimuth_at_zero_deg_;
+  double motor_deg_per_s_;
+};
+
+}  // namespace tumble::sim

@@ -1,0 +1,44 @@
+// Live mode: a scenario played in real time, as the sensors would deliver
+// it: MSOP/DIFOP datagrams over UDP and the IMU's bytes into a pty, each at
+// its arrival time, paced by CLOCK_MONOTONIC. The run is generated event by
+// event as it plays, never held whole in memory.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <ostream>
+#include <string>
+
+#include "tools/sim/scenario.hpp"
+
+namespace tumble::sim {
+
+struct LiveOptions {
+  std::string host = "127.0.0.1";
+  std::uint16_t msop_port = 6699;
+  std::uint16_t difop_port = 7788;
+  bool allow_remote = false;       // refuse a non-loopback host unless set
+  double rate = 1.0;               // 2 = twice real time
+  std::optional<double> duration_s;  // play at most this much of the run
+};
+
+struct LiveSummary {
+  std::uint64_t msop_packets = 0;
+  std::uint64_t difop_packets = 0;
+  std::uint64_t udp_send_failures = 0;
+  std::uint64_t imu_reads = 0;
+  std::uint64_t imu_bytes = 0;
+  std::uint64_t imu_bytes_dropped = 0;  // pty buffer full
+  std::uint64_t late_events = 0;        // sent more than 1 ms after their time
+  bool stopped = false;                 // ended by `stop`, not by the run's end
+};
+
+// Prints "imu-pty <slave path>" then "lidar-udp <host> <msop port> <difop port>"
+// on `announce` before the first byte goes out. The lidar header clock is set
+// to the host's CLOCK_REALTIME at the run's start (a synced lidar at rate 1).
+// Throws LiveError / SimConfigError on bad options.
+LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream& announce,
+                     const std::atomic<bool>& stop);
+
+}  // namespace tumble::sim

@@ -1,0 +1,48 @@
+// Scene primitives: each is a canonical shape in its own local frame placed by
+// a rigid pose, so every ray test is one transform plus a closed-form solve.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <limits>
+#include <string>
+
+namespace tumble::sim {
+
+enum class Shape {
+  Plane,      // infinite plane z = 0 of the local frame
+  Rectangle,  // finite part |x| <= half_size.x, |y| <= half_size.y of z = 0
+  Box,        // |x|,|y|,|z| <= half_size; hit from outside or from inside (rooms)
+  Cylinder,   // axis = local z, |z| <= half_size.z, radius; optional end caps
+};
+
+struct Primitive {
+  Shape shape = Shape::Plane;
+  Eigen::Isometry3d pose_w = Eigen::Isometry3d::Identity();  // local -> world
+  Eigen::Vector3d half_size = Eigen::Vector3d::Zero();        // x, y used by Rectangle/Box; z by Box/Cylinder
+  double radius_m = 0;                                        // Cylinder only
+  bool capped = true;                                         // Cylinder only
+  double reflectivity = 0.5;                                  // 0..1 (lidar models map to 0..255)
+  std::string name;                                           // for messages and debugging only
+};
+
+struct Aabb {
+  Eigen::Vector3d min = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d max = Eigen::Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  void extend(const Eigen::Vector3d& p) {
+    min = min.cwiseMin(p);
+    max = max.cwiseMax(p);
+  }
+  void extend(const Aabb& b) {
+    min = min.cwiseMin(b.min);
+    max = max.cwiseMax(b.max);
+  }
+  Eigen::Vector3d center() const { return 0.5 * (min + max); }
+};
+
+// World-frame bounds; nullopt-like "unbounded" is reported by is_bounded().
+bool is_bounded(const Primitive& p);
+Aabb world_bounds(const Primitive& p);  // precondition: is_bounded(p)
+
+}  // namespace tumble::sim
