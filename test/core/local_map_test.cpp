@@ -121,7 +121,8 @@ TEST(LocalMap, KnnMatchesBruteForce) {
 
 TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
   const test::Room room = test::make_room();
-  const PointCloud surfaces = test::sample_room_surfaces(room, 0.1);
+  const double spacing_m = test::kCoarseTests ? 0.2 : 0.1;
+  const PointCloud surfaces = test::sample_room_surfaces(room, spacing_m);
   LocalMapParams params;
   params.normals.min_other_line_neighbours = 0;  // samples, not a lidar scan
   LocalMap map(params);
@@ -134,13 +135,13 @@ TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
     if (std::abs(q.z() - room.interior.hi.z()) > 1e-9) return;
     const double dx = std::min(std::abs(q.x() - room.interior.lo.x()), std::abs(q.x() - room.interior.hi.x()));
     const double dy = std::min(std::abs(q.y() - room.interior.lo.y()), std::abs(q.y() - room.interior.hi.y()));
-    if (dx < 0.3 || dy < 0.3) return;
+    if (dx < 3 * spacing_m || dy < 3 * spacing_m) return;  // beyond the 20 neighbours' reach
     ASSERT_TRUE(p.normal_valid);
     EXPECT_NEAR(std::abs(p.normal_w.z()), 1.0, 1e-9);
     EXPECT_LT(p.normal_w.z(), 0.0);  // toward the sensor at the origin, below the ceiling
     ++checked;
   });
-  EXPECT_GT(checked, 3000u);
+  EXPECT_GT(checked, test::kCoarseTests ? 800u : 3000u);
 }
 
 }  // namespace

@@ -16,6 +16,15 @@
 
 namespace tumble::test {
 
+// Unoptimised builds (the sanitizer build is Debug) run Eigen code tens of
+// times slower: the scene-level tests use coarser clouds there, so that every
+// test stays within seconds; optimised builds test at full resolution.
+#ifdef NDEBUG
+inline constexpr bool kCoarseTests = false;
+#else
+inline constexpr bool kCoarseTests = true;
+#endif
+
 struct Box {
   Eigen::Vector3d lo;
   Eigen::Vector3d hi;

@@ -70,7 +70,8 @@ struct Peaks {
 
 // Peaks over a run: a coarse sweep, then a golden-section refinement
 // around every coarse local maximum. coarse_s must be shorter than the
-// shortest pulse so that every pulse has a sample in it. Every value reported
+// narrowest bump of any norm (half a jolt, for |alpha|) so that every bump
+// has a sample inside it. Every value reported
 // is a real sample of the motion, so a peak can be missed but never invented.
 inline Peaks sweep_peaks(const Motion& m, double coarse_s) {
   auto norms = [&m](double t) {

@@ -124,7 +124,7 @@ TEST(RollingCage, PeaksMatchTheEventsExactly) {
   RollingCageParams p = explicit_events();
   p.mount = Eigen::Isometry3d::Identity();  // at the centre: no lever-arm terms
   const RollingCageMotion cage(p);
-  const test::Peaks peaks = test::sweep_peaks(cage, 1e-3);  // shortest jolt: 4 * 0.5 / 600 = 3.3 ms
+  const test::Peaks peaks = test::sweep_peaks(cage, 1.5e-3);  // shortest bump: half of a 4 * 0.5 / 600 = 3.3 ms jolt
   // Jolt: 800 rad/s^2 at a 0.25 m radius is 200 m/s^2 at the centre; bounce: 200 m/s^2 up.
   EXPECT_NEAR(peaks.angular_accel_rad_s2, 800.0, 1e-3);
   EXPECT_LE(peaks.angular_accel_rad_s2, 800.0 + 1e-9);
