@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -56,29 +57,27 @@ struct Neighbour {
 class KnnResult {
  public:
   KnnResult(std::span<Neighbour> storage, double max_distance_m)
-      : storage_(storage), max_distance_sq_(max_distance_m * max_distance_m) {}
+      : storage_(storage), bound_sq_(storage.empty() ? 0.0 : max_distance_m * max_distance_m) {}
 
   void offer(double distance_sq, std::uint32_t index) {
-    if (distance_sq >= bound_sq()) return;
-    std::size_t i = std::min(size_, storage_.size() - 1);  // slot of the worst kept, or the free one
-    if (size_ < storage_.size()) ++size_;
+    if (distance_sq >= bound_sq_) return;
+    std::size_t i = size_ < storage_.size() ? size_++ : size_ - 1;  // the free slot, or the worst kept
     while (i > 0 && storage_[i - 1].distance_sq > distance_sq) {
       storage_[i] = storage_[i - 1];
       --i;
     }
     storage_[i] = Neighbour{distance_sq, index};
+    if (size_ == storage_.size()) bound_sq_ = storage_[size_ - 1].distance_sq;
   }
 
   // Squared radius inside which a new candidate would still be kept.
-  double bound_sq() const {
-    return size_ < storage_.size() ? max_distance_sq_ : storage_[size_ - 1].distance_sq;
-  }
+  double bound_sq() const { return bound_sq_; }
   std::size_t size() const { return size_; }
   std::span<const Neighbour> neighbours() const { return storage_.first(size_); }
 
  private:
   std::span<Neighbour> storage_;
-  double max_distance_sq_;
+  double bound_sq_;  // max distance² until full, then the k-th distance²
   std::size_t size_ = 0;
 };
 
@@ -99,11 +98,35 @@ void grid_knn_search(const Eigen::Vector3d& q, double cell_size_m, KnnResult& re
   auto gap = [](int d, double r) { return d > 0 ? d - r : (d < 0 ? r + (-d) - 1 : 0.0); };
 
   visit_cell(base, result);
-  // Cells beyond the search radius are never needed (an unbounded radius is
-  // capped to keep the ring count an int; it is only reached on empty grids).
+  // Ring 1 (where nearly every query ends) nearest cell first, so that the
+  // k-th distance shrinks early and prunes the farther cells.
+  struct Candidate {
+    double gap_sq;
+    CellKey key;
+  };
+  std::array<Candidate, 26> ring1;
+  std::size_t n1 = 0;
+  for (int dx = -1; dx <= 1; ++dx) {
+    const double gx = gap(dx, rx);
+    for (int dy = -1; dy <= 1; ++dy) {
+      const double gy = gap(dy, ry);
+      for (int dz = -1; dz <= 1; ++dz) {
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        const double gz = gap(dz, rz);
+        ring1[n1++] = Candidate{(gx * gx + gy * gy + gz * gz) * h2, CellKey{base.x + dx, base.y + dy, base.z + dz}};
+      }
+    }
+  }
+  std::sort(ring1.begin(), ring1.end(), [](const Candidate& a, const Candidate& b) { return a.gap_sq < b.gap_sq; });
+  for (const Candidate& c : ring1) {
+    if (c.gap_sq >= result.bound_sq()) break;
+    visit_cell(c.key, result);
+  }
+  // Cells beyond the search radius are never needed (callers pass a finite
+  // radius; the cap only keeps the ring count an int).
   const double radius_cells = std::min(std::sqrt(result.bound_sq()) * inv, 1.0e6);
   const int max_ring = static_cast<int>(std::ceil(radius_cells)) + 1;
-  for (int ring = 1; ring <= max_ring; ++ring) {
+  for (int ring = 2; ring <= max_ring; ++ring) {
     const double ring_gap = (ring - 1) + face;  // no cell of this ring is closer
     if (ring_gap * ring_gap * h2 >= result.bound_sq()) break;
     for (int dx = -ring; dx <= ring; ++dx) {

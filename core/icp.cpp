@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <numeric>
 #include <stdexcept>
 #include <string>
@@ -81,7 +82,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   // unknown until it has converged: the normal test starts then, and the
   // iterations go on until the estimate converges with it.
   const bool use_normal_test = params_.max_normal_angle_deg < 90.0;
-  const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * M_PI / 180.0);
+  const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * std::numbers::pi / 180.0);
   bool normal_test_on = false;
   recent_translation_m_.clear();
 
@@ -203,9 +204,9 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       }
     }
     if (converged && use_normal_test && !normal_test_on) {
+      // The increments so far stay in the window: one more small step with
+      // the normal test converges.
       normal_test_on = true;
-      recent_rotation_rad_.clear();
-      recent_translation_m_.clear();
     } else if (converged) {
       result.converged = true;
       break;

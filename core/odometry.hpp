@@ -44,7 +44,8 @@ struct OdometryParams {
   std::size_t min_scan_points = 100;  // fewer after down-sampling: the scan is skipped
   double voxel_size_m = 0.05;
   NormalParams reading_normals{.k = 15};
-  // The map: radius_m 50, min_point_distance_m 0.05, max_sigma_s_m 1, normal_k 20, ...
+  // The map: radius_m 50, min_point_distance_m 0.05, max_sigma_s_m 1,
+  // max_points_per_voxel 40, voxel_size_m 0.25, normals (k 20 and the validity limits).
   LocalMapParams map;
   // Registration: max_match_distance_m 1, match_k 1, FRMSD 0.5/0.7/2.35,
   // max_iterations 40, convergence. `icp.weighting` is set from the weight

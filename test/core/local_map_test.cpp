@@ -73,7 +73,7 @@ TEST(LocalMap, RemovesExactlyTheVoxelsOutsideTheRadius) {
   LocalMap map(params);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> u(-20, 20);
-  std::vector<Eigen::Vector3d> pts(4000);
+  std::vector<Eigen::Vector3d> pts(test::full_or_coarse(4000, 1000));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng) * 0.1);
   map.insert(cloud_of(pts), Eigen::Isometry3d::Identity());
   const std::size_t before = map.size();
@@ -97,11 +97,11 @@ TEST(LocalMap, KnnMatchesBruteForce) {
   LocalMap map(LocalMapParams{.voxel_size_m = 0.3, .min_point_distance_m = 0.0});
   std::mt19937 rng(5);
   std::uniform_real_distribution<double> u(-2, 2);
-  std::vector<Eigen::Vector3d> pts(3000);
+  std::vector<Eigen::Vector3d> pts(test::full_or_coarse(3000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
   ASSERT_EQ(map.insert(cloud_of(pts), Eigen::Isometry3d::Identity()).inserted, pts.size());
   std::vector<Neighbour> out(8);
-  for (int q = 0; q < 300; ++q) {
+  for (int q = 0; q < test::full_or_coarse(300, 60); ++q) {
     const Eigen::Vector3d query(u(rng) * 1.5, u(rng) * 1.5, u(rng) * 1.5);
     for (const std::size_t k : {std::size_t{1}, std::size_t{8}}) {
       const double radius = 0.25;
@@ -121,7 +121,7 @@ TEST(LocalMap, KnnMatchesBruteForce) {
 
 TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
   const test::Room room = test::make_room();
-  const double spacing_m = test::kCoarseTests ? 0.2 : 0.1;
+  const double spacing_m = test::full_or_coarse(0.1, 0.3);
   const PointCloud surfaces = test::sample_room_surfaces(room, spacing_m);
   LocalMapParams params;
   params.normals.min_other_line_neighbours = 0;  // samples, not a lidar scan
@@ -141,7 +141,7 @@ TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
     EXPECT_LT(p.normal_w.z(), 0.0);  // toward the sensor at the origin, below the ceiling
     ++checked;
   });
-  EXPECT_GT(checked, test::kCoarseTests ? 800u : 3000u);
+  EXPECT_GT(checked, test::full_or_coarse(3000u, 300u));
 }
 
 }  // namespace

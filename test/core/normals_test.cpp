@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/point_grid.hpp"
+#include "test/core/synthetic_room.hpp"
 
 namespace tumble {
 namespace {
@@ -47,8 +48,8 @@ TEST(NormalEstimator, PlaneNormalsFaceTheSensorWithZeroCurvature) {
 
 TEST(NormalEstimator, SphereNormalsAreRadialWithSmallCurvature) {
   const double radius = 2.0;
-  std::vector<Eigen::Vector3d> pts;  // Fibonacci sphere: near-uniform spacing (~11 cm)
-  const int n = 4000;
+  std::vector<Eigen::Vector3d> pts;  // Fibonacci sphere: near-uniform spacing (11 / 22 cm)
+  const int n = test::full_or_coarse(4000, 1000);
   const double golden = M_PI * (3 - std::sqrt(5.0));
   for (int i = 0; i < n; ++i) {
     const double z = 1 - 2 * (i + 0.5) / n, r = std::sqrt(1 - z * z), a = golden * i;
@@ -144,12 +145,12 @@ TEST(NormalEstimator, OneRingAcrossACornerIsNoSurface) {
 TEST(PointGrid, KnnMatchesBruteForce) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> u(-3, 3);
-  std::vector<Eigen::Vector3d> pts(3000);
+  std::vector<Eigen::Vector3d> pts(test::full_or_coarse(3000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng) * 0.2);
   PointGrid grid;
   grid.build(pts, 0.3);
   std::vector<Neighbour> out(12);
-  for (int q = 0; q < 300; ++q) {
+  for (int q = 0; q < test::full_or_coarse(300, 60); ++q) {
     const Eigen::Vector3d query(u(rng), u(rng), u(rng));
     const double radius = q % 2 ? 0.7 : 10.0;
     const std::size_t found = grid.knn(query, radius, out);

@@ -61,12 +61,16 @@ OdometryParams test_params(bool deskew) {
   // tilts toward the apparent gravity while accelerating. Both are the fuser's
   // (reported); this test is about the registration pipeline, so β is small.
   p.fuser.madgwick.beta = 0.01;
-  if (test::kCoarseTests) p.voxel_size_m = 0.1;
+  p.voxel_size_m = test::full_or_coarse(0.05, 0.15);
+  if (test::kCoarseTests) {  // sparse clouds: bigger search cells keep the searches short
+    p.reading_normals.grid_cell_m = 0.5;
+    p.map.voxel_size_m = 0.5;
+  }
   return p;
 }
 
-// Tracking runs: 2.5 s at full resolution, 1.6 s in coarse builds.
-constexpr double kRunDuration_s = test::kCoarseTests ? 1.6 : 2.5;
+// Tracking runs: 2.5 s at full resolution, 1.0 s in coarse builds.
+constexpr double kRunDuration_s = test::full_or_coarse(2.5, 1.0);
 
 struct RunSummary {
   std::vector<ScanResult> results;
@@ -110,7 +114,7 @@ RunSummary run(const YawAndDrive& motion, const OdometryParams& params, double d
 
 test::RingLidar small_lidar() {
   test::RingLidar lidar;
-  lidar.columns = test::kCoarseTests ? 300 : 900;  // 1.2 / 0.4 deg: fewer points than an RS-16
+  lidar.columns = test::full_or_coarse(900, 150);  // 0.4 / 2.4 deg: fewer points than an RS-16
   return lidar;
 }
 
@@ -132,7 +136,7 @@ TEST(Odometry, TracksASmoothDriveAndTurnInARoom) {
   }
   EXPECT_EQ(registered + 1, s.results.size());
   // Moved metres and turned radians: the registered poses stay within millimetres.
-  EXPECT_GT(motion.pose(kRunDuration_s - 0.1).translation().norm(), test::kCoarseTests ? 0.5 : 1.5);
+  EXPECT_GT(motion.pose(kRunDuration_s - 0.1).translation().norm(), test::full_or_coarse(1.5, 0.1));
   // Coarse builds see 5x fewer points per scan: centimetres, not millimetres.
   EXPECT_LT(s.max_translation_error_m, test::kCoarseTests ? 0.03 : 5e-3);
   EXPECT_LT(s.max_rotation_error_rad, (test::kCoarseTests ? 0.5 : 0.15) * M_PI / 180);
@@ -145,10 +149,10 @@ TEST(Odometry, DeskewingBeatsNoDeskewingUnderFastRotation) {
   YawAndDrive motion;
   motion.yaw_rate_rad_s = 6.0;  // 34 degrees per revolution of the lidar
   motion.velocity_w = Eigen::Vector3d(0.5, 0.0, 0.0);
-  const double duration_s = test::kCoarseTests ? 1.5 : 2.0;
+  const double duration_s = test::full_or_coarse(2.0, 1.0);
   const RunSummary with = run(motion, test_params(true), duration_s, small_lidar());
   const RunSummary without = run(motion, test_params(false), duration_s, small_lidar());
-  ASSERT_GE(with.results.size(), 10u);
+  ASSERT_GE(with.results.size(), test::full_or_coarse(10u, 5u));
   ASSERT_EQ(without.results.size(), with.results.size());
   EXPECT_LT(with.max_translation_error_m, test::kCoarseTests ? 0.03 : 0.01);
   EXPECT_LT(with.max_translation_error_m * 3, without.max_translation_error_m);
@@ -201,7 +205,7 @@ TEST(Odometry, WaitsForImuCoverageAndDropsScansBeforeInitialisation) {
   EXPECT_EQ(processed, 1u);
   ASSERT_TRUE(odometry.last_result().has_value());
   EXPECT_TRUE(odometry.last_result()->map_initialised);
-  EXPECT_GT(odometry.map().size(), 1000u);
+  EXPECT_GT(odometry.map().size(), test::full_or_coarse(1000u, 300u));
   EXPECT_FALSE(odometry.last_result()->timings.measured);
 }
 

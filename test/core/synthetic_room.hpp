@@ -24,6 +24,11 @@ inline constexpr bool kCoarseTests = false;
 #else
 inline constexpr bool kCoarseTests = true;
 #endif
+// `full` in optimised builds, `coarse` in unoptimised ones.
+template <class T>
+constexpr T full_or_coarse(T full, T coarse) {
+  return kCoarseTests ? coarse : full;
+}
 
 struct Box {
   Eigen::Vector3d lo;

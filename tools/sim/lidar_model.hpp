@@ -70,8 +70,6 @@ class LidarModel {
   // is left for the caller's clock. Every firing must lie inside the motion.
   void fill_packet(std::int64_t first_firing_ns, rs16::MsopPacketData& out);
 
-  double motor_deg_per_s() const { return motor_deg_per_s_; }
-
  private:
   rs16::ChannelReturn fire(double t_s, double azimuth_deg, int laser);
 

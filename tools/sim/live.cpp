@@ -3,7 +3,6 @@
 #include <time.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <cmath>
 
 #include "tools/sim/live_sinks.hpp"
@@ -47,16 +46,16 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
     scenario.duration_s = std::min(scenario_duration_s(scenario), *options.duration_s);
   }
 
-  // Run time 0 is a moment from now on both clocks; the lidar header clock is
-  // the host's real-time clock, as with a synced unit.
-  const std::int64_t start_mono_ns = clock_ns(CLOCK_MONOTONIC) + kStartLeadNs;
-  scenario.epoch_ns = (clock_ns(CLOCK_REALTIME) + kStartLeadNs) / 1000 * 1000;
-  const SimRun run(std::move(scenario));
+  SimRun run(std::move(scenario));
   ImuPty pty;
   UdpSender udp(destination);
   announce << "imu-pty " << pty.slave_path() << "\n"
            << "lidar-udp " << options.host << " " << options.msop_port << " " << options.difop_port << std::endl;
 
+  // Run time 0 is a moment from now on both clocks; the lidar header clock is
+  // the host's real-time clock, as with a synced unit.
+  const std::int64_t start_mono_ns = clock_ns(CLOCK_MONOTONIC) + kStartLeadNs;
+  run.set_epoch_ns((clock_ns(CLOCK_REALTIME) + kStartLeadNs) / 1000 * 1000);
   LiveSummary summary;
   LidarStream lidar = run.lidar_stream();
   ImuStream imu = run.imu_stream();
@@ -72,7 +71,9 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
       summary.stopped = true;
       break;
     }
-    if (clock_ns(CLOCK_MONOTONIC) > due_ns + kLateNs) ++summary.late_events;
+    const std::int64_t late_ns = clock_ns(CLOCK_MONOTONIC) - due_ns;
+    if (late_ns > kLateNs) ++summary.late_events;
+    summary.max_late_s = std::max(summary.max_late_s, static_cast<double>(late_ns) * 1e-9);
     if (take_lidar) {
       const std::uint16_t port = datagram.is_difop ? options.difop_port : options.msop_port;
       if (!udp.send(port, datagram.payload)) ++summary.udp_send_failures;

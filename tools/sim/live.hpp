@@ -31,6 +31,7 @@ struct LiveSummary {
   std::uint64_t imu_bytes = 0;
   std::uint64_t imu_bytes_dropped = 0;  // pty buffer full
   std::uint64_t late_events = 0;        // sent more than 1 ms after their time
+  double max_late_s = 0.0;              // the worst of them
   bool stopped = false;                 // ended by `stop`, not by the run's end
 };
 

@@ -11,7 +11,6 @@
 
 #include "tools/sim/bench.hpp"
 #include "tools/sim/live.hpp"
-#include "tools/sim/live_sinks.hpp"
 #include "tools/sim/run_writer.hpp"
 
 namespace {
@@ -59,11 +58,12 @@ int command_live(const Scenario& scenario, const LiveOptions& options) {
   const LiveSummary s = run_live(scenario, options, std::cout, g_stop);
   std::fprintf(stderr,
                "tumble-sim live: %s: %llu MSOP + %llu DIFOP packets (%llu send failures), %llu IMU bytes in %llu "
-               "writes (%llu dropped: pty full), %llu events late by > 1 ms\n",
+               "writes (%llu dropped: pty full), %llu events late by > 1 ms (worst %.1f ms)\n",
                s.stopped ? "stopped" : "done", static_cast<unsigned long long>(s.msop_packets),
                static_cast<unsigned long long>(s.difop_packets), static_cast<unsigned long long>(s.udp_send_failures),
                static_cast<unsigned long long>(s.imu_bytes), static_cast<unsigned long long>(s.imu_reads),
-               static_cast<unsigned long long>(s.imu_bytes_dropped), static_cast<unsigned long long>(s.late_events));
+               static_cast<unsigned long long>(s.imu_bytes_dropped), static_cast<unsigned long long>(s.late_events),
+               s.max_late_s * 1e3);
   return 0;
 }
 

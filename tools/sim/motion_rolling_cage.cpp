@@ -174,12 +174,14 @@ MotionState RollingCageMotion::cage_at(double t_s) const {
     lift.v += s.v;
     lift.a += s.a;
   }
-  // Rolling about +y moves the centre along +x by R per radian.
-  MotionState centre;
-  centre.T_wb.translation() = Eigen::Vector3d(radius_m_ * roll.s, 0, radius_m_ + lift.s);
-  centre.v_w = Eigen::Vector3d(radius_m_ * roll.v, 0, lift.v);
-  centre.a_w = Eigen::Vector3d(radius_m_ * roll.a, 0, lift.a);
-  return compose(centre, rotation_state(Eigen::Vector3d::UnitY(), roll));
+  // Rolling about +y moves the centre along +x by R per radian. The centre
+  // translates without rotating and the cage turns about a fixed axis, so
+  // their composition is just both side by side.
+  MotionState cage = rotation_state(Eigen::Vector3d::UnitY(), roll);
+  cage.T_wb.translation() = Eigen::Vector3d(radius_m_ * roll.s, 0, radius_m_ + lift.s);
+  cage.v_w = Eigen::Vector3d(radius_m_ * roll.v, 0, lift.v);
+  cage.a_w = Eigen::Vector3d(radius_m_ * roll.a, 0, lift.a);
+  return cage;
 }
 
 MotionState RollingCageMotion::at(double t_s) const { return compose(cage_at(t_s), mount_); }

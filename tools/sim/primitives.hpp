@@ -41,8 +41,7 @@ struct Aabb {
   Eigen::Vector3d center() const { return 0.5 * (min + max); }
 };
 
-// World-frame bounds; nullopt-like "unbounded" is reported by is_bounded().
-bool is_bounded(const Primitive& p);
-Aabb world_bounds(const Primitive& p);  // precondition: is_bounded(p)
+bool is_bounded(const Primitive& p);    // false for infinite planes
+Aabb world_bounds(const Primitive& p);  // exact world-frame box; precondition: is_bounded(p)
 
 }  // namespace tumble::sim

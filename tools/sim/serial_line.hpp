@@ -20,8 +20,6 @@ class SerialLine {
 
   // When the first byte not yet read has fully arrived; nullopt when none is queued.
   std::optional<double> first_unread_arrival_s() const;
-  // When the device will finish sending everything queued so far.
-  double line_free_s() const { return line_free_s_; }
 
   // Appends to out every queued byte that has arrived by t_s (at most max_bytes).
   void read_until(double t_s, std::size_t max_bytes, std::vector<std::uint8_t>& out);

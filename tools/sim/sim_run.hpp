@@ -26,6 +26,12 @@ class SimRun {
   const LidarTiming& lidar_timing() const { return lidar_timing_; }
   const ImuClock& imu_clock() const { return imu_clock_; }
 
+  // Moves run time 0 to another moment of the host clock (live mode starts now).
+  void set_epoch_ns(std::int64_t epoch_ns) {
+    scenario_.epoch_ns = epoch_ns;
+    lidar_timing_.epoch_ns = epoch_ns;
+  }
+
   // Fresh streams over the whole run; they keep references to this run.
   LidarStream lidar_stream() const;
   ImuStream imu_stream() const;

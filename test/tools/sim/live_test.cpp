@@ -91,7 +91,9 @@ struct Receiver {
 Scenario box_room_scenario(const std::filesystem::path& dir) {
   test::BoxRoom room;
   const auto scene = room.write(dir);
-  return parse_scenario(YAML::Load(test::box_room_scenario_yaml(scene, 2.0) + "lidar: {difop_phase_s: 0.0}\n"),
+  // A fast IMU so that frames come early in the stream (generation is slow under ASan).
+  return parse_scenario(YAML::Load(test::box_room_scenario_yaml(scene, 2.0) +
+                                   "lidar: {difop_phase_s: 0.0}\nimu: {rate_hz: 400, baud: 921600}\n"),
                         "live.yaml", dir);
 }
 
@@ -102,7 +104,7 @@ TEST(Live, StreamsLidarOverUdpAndImuThroughAPty) {
   LiveOptions options;
   options.msop_port = msop.port;
   options.difop_port = difop.port;
-  options.duration_s = 0.03;  // short: under ASan generation runs far behind real time
+  options.duration_s = 5.0;  // a bound only: the test stops the player once it has read enough
   LineSink sink;
   std::ostream announce(&sink);
   std::atomic<bool> stop{false};
@@ -143,11 +145,13 @@ TEST(Live, StreamsLidarOverUdpAndImuThroughAPty) {
   EXPECT_GE(mtdata2, 3);
   ::close(tty);
 
+  // As on SIGINT: the player stops between two events and returns.
+  stop = true;
   player.join();
-  EXPECT_FALSE(summary.stopped);
-  EXPECT_NEAR(static_cast<double>(summary.msop_packets), 0.03 * 750.75, 2.0);
-  EXPECT_EQ(summary.difop_packets, 1u);
-  EXPECT_GE(summary.imu_reads, 6u);
+  EXPECT_TRUE(summary.stopped);
+  EXPECT_GE(summary.msop_packets, 5u);
+  EXPECT_GE(summary.difop_packets, 1u);
+  EXPECT_GE(summary.imu_reads, 3u);
   EXPECT_EQ(summary.udp_send_failures, 0u);
 }
 

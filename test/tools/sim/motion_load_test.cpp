@@ -67,7 +67,7 @@ TEST(MotionLoad, RollingCageStaysInsideThePaperEnvelope) {
   test::DerivativeTolerance tol;
   tol.a_m_s2 = 3e-3;
   tol.alpha_rad_s2 = 5e-3;
-  test::expect_derivatives(*cage, 300, {}, tol);
+  test::expect_derivatives(*cage, 100, {}, tol);
 }
 
 TEST(MotionLoad, SeedOverrideChangesTheRunAndIsDeterministic) {

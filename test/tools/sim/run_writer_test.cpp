@@ -22,15 +22,15 @@ std::string slurp(const std::filesystem::path& p) {
 }
 
 // A short turntable run in the box room: motion, so the skew and the IMU
-// matter; 12 ms, as rays are slow under ASan.
+// matter; 8 ms, as rays are slow under ASan.
 Scenario short_run(const std::filesystem::path& dir, std::uint64_t seed) {
   test::BoxRoom room;
   const auto scene = room.write(dir);
   return parse_scenario(YAML::Load("scene: " + scene.string() +
                                    "\nmotion: {type: turntable, axis: [0, 0, 1], origin: {xyz_m: [0.5, -0.3, 1.1]},"
                                    " mount: {xyz_m: [0.1, 0, 0.2]},"
-                                   " profile: [{hold_s: 0.002}, {ramp: {to_rad_s: 4, peak_rad_s2: 1600}}, {hold_s: 0.005}]}\n"
-                                   "seed: " + std::to_string(seed) + "\n"),
+                                   " profile: [{hold_s: 0.001}, {ramp: {to_rad_s: 4, peak_rad_s2: 2000}}, {hold_s: 0.003}]}\n"
+                                   "seed: " + std::to_string(seed) + "\nimu: {rate_hz: 400, baud: 921600}\n"),
                         "short.yaml", dir);
 }
 
