@@ -4,6 +4,8 @@
 
 #include <random>
 
+#include "test/core/synthetic_room.hpp"
+
 namespace tumble {
 namespace {
 
@@ -47,7 +49,7 @@ TEST(VoxelDownsampler, OnePointPerOccupiedCellInFirstSeenOrder) {
 TEST(VoxelDownsampler, DeterministicAndReusable) {
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-5, 5);
-  std::vector<Eigen::Vector3d> pts(5000);
+  std::vector<Eigen::Vector3d> pts(test::full_or_coarse(5000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
   const PointCloud in = cloud_of(pts);
   VoxelDownsampler grid(0.5);
