@@ -1,42 +1,12 @@
 #include "core/odometry.hpp"
 
-#include <algorithm>
-#include <cmath>
-#include <stdexcept>
-#include <string>
-
-#include "core/deskew.hpp"
-
 namespace tumble {
 
-namespace {
-
-IcpParams icp_params_for(const OdometryParams& p) {
-  IcpParams icp = p.icp;
-  icp.weighting = p.weights.model == WeightModel::SAW ? MatchWeighting::kPointWeight : MatchWeighting::kInverseVariance;
-  return icp;
-}
-
-const OdometryParams& checked(const OdometryParams& p) {
-  auto fail = [](const std::string& what) { throw std::invalid_argument("OdometryParams: " + what); };
-  if (p.max_pending_scans < 1) fail("max_pending_scans must be >= 1");
-  if (p.weights.map_max_sigma_m != p.map.max_sigma_s_m)
-    fail("weights.map_max_sigma_m (" + std::to_string(p.weights.map_max_sigma_m) + ") and map.max_sigma_s_m (" +
-         std::to_string(p.map.max_sigma_s_m) + ") must be equal");
-  if (!(p.min_position_sigma_m > 0)) fail("min_position_sigma_m must be > 0");
-  return p;
-}
-
-}  // namespace
-
 Odometry::Odometry(const OdometryParams& params, Clock clock)
-    : params_(checked(params)),
+    : params_(params),
       clock_(std::move(clock)),
       fuser_(params.fuser),
-      downsampler_(params.voxel_size_m),
-      normals_(params.reading_normals),
-      icp_(icp_params_for(params)),
-      map_(params.map),
+      registration_(params, clock_),
       pending_(params.max_pending_scans) {}
 
 std::size_t Odometry::add_imu(const ImuSample& sample) {
@@ -114,99 +84,27 @@ Eigen::Vector3d Odometry::velocity_at(double t_s) const {
 }
 
 bool Odometry::process(const Scan& scan) {
-  const double t_start = scan.points.front().t_s;
-  if (t_start <= last_scan_start_s_) {
-    ++stats_.scans_out_of_order;
-    return false;
+  ScanResult& result = result_;
+  switch (registration_.process(scan, fuser_.trajectory(), result)) {
+    case ScanOutcome::TooSmall:
+      ++stats_.scans_too_small;
+      return false;
+    case ScanOutcome::OutOfOrder:
+      ++stats_.scans_out_of_order;
+      return false;
+    case ScanOutcome::Registered:
+      break;
   }
-  last_scan_start_s_ = t_start;
-  ScanResult result;
-  result.scan_index = scan.index;
-  result.t_scan_start_s = t_start;
-  result.t_scan_end_s = scan.points.back().t_s;
-  result.points_in = scan.points.size();
-  StageTimings& timing = result.timings;
-  timing.measured = static_cast<bool>(clock_);
-  const Trajectory& trajectory = fuser_.trajectory();
-  const double clock_start = now();
-  double mark = clock_start;
-  auto lap = [&](double& stage) {
-    const double t = now();
-    stage = t - mark;
-    mark = t;
-  };
+  if (!result.registered) ++stats_.registrations_failed;
+  if (result.degeneracy.degenerate) ++stats_.registrations_degenerate;
 
-  // De-skew into the lidar frame at the scan's first point.
-  const std::size_t n = scan.points.size();
-  raw_.resize(n);
-  deskew_scan(scan, trajectory, params_.deskew, raw_.points);
-  for (std::size_t i = 0; i < n; ++i) {
-    raw_.times_s[i] = scan.points[i].t_s;
-    raw_.rings[i] = scan.points[i].laser;
+  const double mark = now();
+  if (result.registered) fuser_.correct_with_registered_pose(result.t_scan_start_s, result.T_wl, result.position_sigma_m);
+  result.v_w = velocity_at(result.t_scan_start_s);
+  if (result.timings.measured) {
+    result.timings.fuser_correction_s = now() - mark;
+    result.timings.total_s += result.timings.fuser_correction_s;
   }
-  lap(timing.deskew_s);
-
-  downsampler_.apply(raw_, reading_);
-  result.points_downsampled = reading_.size();
-  lap(timing.downsample_s);
-  if (reading_.size() < params_.min_scan_points) {
-    ++stats_.scans_too_small;
-    return false;
-  }
-
-  normals_.estimate(reading_, Eigen::Vector3d::Zero());
-  lap(timing.normals_s);
-
-  PointWeightInput input;
-  input.points_l = reading_.points;
-  input.times_s = reading_.times_s;
-  input.normals = reading_.normals;
-  input.curvatures = reading_.curvatures;
-  input.rings = reading_.rings;
-  input.t_scan_start_s = t_start;
-  input.deskewed = params_.deskew;
-  compute_point_weights(params_.weights, trajectory, input,
-                        PointWeightOutput{reading_.sigma_n_m, reading_.sigma_s_m, reading_.weights}, weight_workspace_);
-  lap(timing.weights_s);
-
-  const Eigen::Isometry3d predicted = trajectory.pose_at(t_start);
-  Eigen::Isometry3d T_wl = predicted;
-  if (map_.empty()) {
-    result.map_initialised = true;
-    result.registered = true;
-  } else {
-    const IcpResult icp = icp_.align(reading_, map_, predicted);
-    result.registered = icp.matches_kept >= 6;
-    result.converged = icp.converged;
-    result.iterations = icp.iterations;
-    result.inlier_ratio = icp.inlier_ratio;
-    result.residual_rms_m = icp.residual_rms_m;
-    result.covariance = icp.covariance;
-    result.degeneracy = icp.degeneracy;
-    if (result.registered) T_wl = icp.T_wl;
-    if (!result.registered) ++stats_.registrations_failed;
-    if (icp.degeneracy.degenerate) ++stats_.registrations_degenerate;
-  }
-  lap(timing.registration_s);
-
-  if (result.registered) {
-    const double trace_sigma = std::sqrt(std::max(result.covariance.topLeftCorner<3, 3>().trace() / 3.0, 0.0));
-    const double sigma =
-        std::isfinite(trace_sigma) && !result.map_initialised ? std::max(trace_sigma, params_.min_position_sigma_m)
-                                                              : params_.min_position_sigma_m;
-    fuser_.correct_with_registered_pose(t_start, T_wl, sigma);
-  }
-  result.T_wl = T_wl;
-  result.v_w = velocity_at(t_start);
-  lap(timing.fuser_correction_s);
-
-  if (result.registered) {
-    result.map_insert = map_.insert(reading_, T_wl);
-    map_.remove_far_from(T_wl.translation());
-  }
-  result.map_points = map_.size();
-  lap(timing.map_update_s);
-  timing.total_s = mark - clock_start;
 
   ++stats_.scans_processed;
   last_result_ = result;
