@@ -23,20 +23,23 @@ void deskew_points(std::span<const Eigen::Vector3d> points_l, std::span<const do
   require_same_size(points_l.size(), out_points.size(), "out_points");
   RelativePoseInterpolator interpolator(trajectory, t_ref_s);
   for (std::size_t i = 0; i < points_l.size(); ++i) {
-    out_points[i] = interpolator.to_reference(times_s[i]) * points_l[i];
+    out_points[i] = interpolator.point_to_reference(times_s[i], points_l[i]);
   }
 }
 
 void deskew_scan(const Scan& scan, const Trajectory& trajectory, bool enabled, std::span<Eigen::Vector3d> out_points) {
   require_same_size(scan.points.size(), out_points.size(), "out_points");
-  for (std::size_t i = 0; i < scan.points.size(); ++i) {
+  auto measured = [&](std::size_t i) {
     const LidarPoint& point = scan.points[i];
-    out_points[i] = Eigen::Vector3f(point.x_m, point.y_m, point.z_m).cast<double>();
+    return Eigen::Vector3d(point.x_m, point.y_m, point.z_m);
+  };
+  if (!enabled || scan.points.empty()) {
+    for (std::size_t i = 0; i < scan.points.size(); ++i) out_points[i] = measured(i);
+    return;
   }
-  if (!enabled || scan.points.empty()) return;
   RelativePoseInterpolator interpolator(trajectory, scan.points.front().t_s);
   for (std::size_t i = 0; i < scan.points.size(); ++i) {
-    out_points[i] = interpolator.to_reference(scan.points[i].t_s) * out_points[i];
+    out_points[i] = interpolator.point_to_reference(scan.points[i].t_s, measured(i));
   }
 }
 

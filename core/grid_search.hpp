@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <limits>
 #include <span>
+#include <vector>
 
 namespace tumble {
 
@@ -39,6 +40,25 @@ struct CellKeyHash {
   }
 };
 
+// Which cells may hold points: a table of counters indexed by the top bits of
+// the cell hash, kept next to a grid's hash map. A search visits many cells
+// that are empty (large radii on sparse lidar data), and this small table
+// (L2-resident) answers those without probing the hash map. Never wrong when
+// it says empty; a shared counter only costs a look-up.
+class CellOccupancy {
+ public:
+  explicit CellOccupancy(int bits = 18) : shift_(64 - bits), counts_(std::size_t{1} << bits, 0) {}
+  void add(const CellKey& key) { ++counts_[slot(key)]; }
+  void remove(const CellKey& key) { --counts_[slot(key)]; }
+  void clear() { std::fill(counts_.begin(), counts_.end(), 0u); }
+  bool maybe_occupied(const CellKey& key) const { return counts_[slot(key)] != 0; }
+
+ private:
+  std::size_t slot(const CellKey& key) const { return static_cast<std::size_t>(CellKeyHash{}(key) >> shift_); }
+  int shift_;
+  std::vector<std::uint16_t> counts_;  // a bucket would need 65536 cells to wrap
+};
+
 inline CellKey cell_of(const Eigen::Vector3d& p, double inv_cell_size) {
   return CellKey{static_cast<std::int32_t>(std::floor(p.x() * inv_cell_size)),
                  static_cast<std::int32_t>(std::floor(p.y() * inv_cell_size)),
@@ -51,16 +71,24 @@ struct Neighbour {
   std::uint32_t index = 0;
 };
 
-// The k closest candidates offered so far, sorted by distance, kept in storage
-// the caller owns (so a search never allocates). Candidates at or beyond
-// max_distance are refused.
+// The k closest candidates offered so far, kept in storage the caller owns
+// (so a search never allocates); sorted by distance once finish() is called.
+// Candidates at or beyond max_distance are refused. Small k keeps the list
+// sorted by insertion; large k (the normals' line retries, k = 80) keeps a
+// max-heap, where insertion would shift half the list per candidate.
 class KnnResult {
  public:
   KnnResult(std::span<Neighbour> storage, double max_distance_m)
-      : storage_(storage), bound_sq_(storage.empty() ? 0.0 : max_distance_m * max_distance_m) {}
+      : storage_(storage),
+        bound_sq_(storage.empty() ? 0.0 : max_distance_m * max_distance_m),
+        heap_(storage.size() > kMaxInsertionK) {}
 
   void offer(double distance_sq, std::uint32_t index) {
     if (distance_sq >= bound_sq_) return;
+    if (heap_) {
+      offer_heap(Neighbour{distance_sq, index});
+      return;
+    }
     std::size_t i = size_ < storage_.size() ? size_++ : size_ - 1;  // the free slot, or the worst kept
     while (i > 0 && storage_[i - 1].distance_sq > distance_sq) {
       storage_[i] = storage_[i - 1];
@@ -73,13 +101,46 @@ class KnnResult {
   // Squared radius inside which a new candidate would still be kept.
   double bound_sq() const { return bound_sq_; }
   std::size_t size() const { return size_; }
-  std::span<const Neighbour> neighbours() const { return storage_.first(size_); }
+  // Sorts the kept neighbours, nearest first; returns how many.
+  std::size_t finish() {
+    if (heap_) std::sort_heap(storage_.begin(), storage_.begin() + static_cast<std::ptrdiff_t>(size_), farther);
+    return size_;
+  }
 
  private:
+  static constexpr std::size_t kMaxInsertionK = 16;
+  static bool farther(const Neighbour& a, const Neighbour& b) { return a.distance_sq < b.distance_sq; }
+  void offer_heap(const Neighbour& n) {
+    const auto begin = storage_.begin();
+    if (size_ < storage_.size()) {
+      storage_[size_++] = n;
+      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    } else {
+      std::pop_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+      storage_[size_ - 1] = n;
+      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    }
+    if (size_ == storage_.size()) bound_sq_ = storage_.front().distance_sq;
+  }
+
   std::span<Neighbour> storage_;
   double bound_sq_;  // max distance² until full, then the k-th distance²
   std::size_t size_ = 0;
+  bool heap_;
 };
+
+// The 26 cells around a cell: faces, edges, corners.
+inline constexpr std::array<std::array<std::int8_t, 3>, 26> kRing1ByDistanceClass = [] {
+  std::array<std::array<std::int8_t, 3>, 26> cells{};
+  std::size_t n = 0;
+  for (int axes = 1; axes <= 3; ++axes)
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz)
+          if ((dx != 0) + (dy != 0) + (dz != 0) == axes)
+            cells[n++] = {static_cast<std::int8_t>(dx), static_cast<std::int8_t>(dy), static_cast<std::int8_t>(dz)};
+  return cells;
+}();
 
 // Offers to `result` the points of every cell that can hold one of the k
 // nearest neighbours of q. visit_cell(const CellKey&, KnnResult&) offers the
@@ -98,29 +159,16 @@ void grid_knn_search(const Eigen::Vector3d& q, double cell_size_m, KnnResult& re
   auto gap = [](int d, double r) { return d > 0 ? d - r : (d < 0 ? r + (-d) - 1 : 0.0); };
 
   visit_cell(base, result);
-  // Ring 1 (where nearly every query ends) nearest cell first, so that the
-  // k-th distance shrinks early and prunes the farther cells.
-  struct Candidate {
-    double gap_sq;
-    CellKey key;
-  };
-  std::array<Candidate, 26> ring1;
-  std::size_t n1 = 0;
-  for (int dx = -1; dx <= 1; ++dx) {
-    const double gx = gap(dx, rx);
-    for (int dy = -1; dy <= 1; ++dy) {
-      const double gy = gap(dy, ry);
-      for (int dz = -1; dz <= 1; ++dz) {
-        if (dx == 0 && dy == 0 && dz == 0) continue;
-        const double gz = gap(dz, rz);
-        ring1[n1++] = Candidate{(gx * gx + gy * gy + gz * gz) * h2, CellKey{base.x + dx, base.y + dy, base.z + dz}};
-      }
-    }
-  }
-  std::sort(ring1.begin(), ring1.end(), [](const Candidate& a, const Candidate& b) { return a.gap_sq < b.gap_sq; });
-  for (const Candidate& c : ring1) {
-    if (c.gap_sq >= result.bound_sq()) break;
-    visit_cell(c.key, result);
+  // Ring 1 (where nearly every query ends): the 6 face cells, then the 12
+  // edge cells, then the 8 corners, each looked up only while closer than
+  // the current k-th neighbour. Nearer classes first shrink that bound early,
+  // at no per-query sorting cost.
+  const double gx2[3] = {gap(-1, rx) * gap(-1, rx) * h2, 0.0, gap(1, rx) * gap(1, rx) * h2};
+  const double gy2[3] = {gap(-1, ry) * gap(-1, ry) * h2, 0.0, gap(1, ry) * gap(1, ry) * h2};
+  const double gz2[3] = {gap(-1, rz) * gap(-1, rz) * h2, 0.0, gap(1, rz) * gap(1, rz) * h2};
+  for (const std::array<std::int8_t, 3>& d : kRing1ByDistanceClass) {
+    if (gx2[d[0] + 1] + gy2[d[1] + 1] + gz2[d[2] + 1] >= result.bound_sq()) continue;
+    visit_cell(CellKey{base.x + d[0], base.y + d[1], base.z + d[2]}, result);
   }
   // Cells beyond the search radius are never needed (callers pass a finite
   // radius; the cap only keeps the ring count an int).

@@ -17,6 +17,12 @@ namespace {
 // step has no component along them (the initial guess is kept there).
 constexpr double kPseudoInverseCutoff = 1e-12;
 
+// Fresh neighbour searches reach this factor times max_match_distance_m, and
+// keep this many neighbours beyond match_k: the farther the last kept one,
+// the larger the moves over which the search can be reused.
+constexpr double kReuseMargin = 1.1;
+constexpr std::size_t kExtraKept = 3;
+
 Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w) {
   const double angle = w.norm();
   if (angle < 1e-12) return Eigen::Matrix3d::Identity();
@@ -45,11 +51,16 @@ FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, do
   const std::size_t k_lo = std::max<std::size_t>(1, static_cast<std::size_t>(std::floor(r_min * n)));
   const std::size_t k_hi = std::max(k_lo, static_cast<std::size_t>(std::floor(r_max * n)));
   scratch.assign(squared_distances.begin(), squared_distances.end());
-  // Only the k_hi smallest matter, in order.
-  std::nth_element(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k_hi - 1), scratch.end());
-  std::sort(scratch.begin(), scratch.begin() + static_cast<std::ptrdiff_t>(k_hi));
+  // Only the k_hi smallest matter, and only those from rank k_lo on in order:
+  // the k_lo − 1 smallest enter as one sum.
+  const auto first = scratch.begin();
+  const auto lo = first + static_cast<std::ptrdiff_t>(k_lo - 1);
+  const auto hi = first + static_cast<std::ptrdiff_t>(k_hi);
+  std::nth_element(first, lo, scratch.end());
+  std::nth_element(lo, hi - 1, scratch.end());
+  std::sort(lo, hi);
   double sum = 0;
-  for (std::size_t k = 1; k < k_lo; ++k) sum += scratch[k - 1];
+  for (auto it = first; it != lo; ++it) sum += *it;
   double best = std::numeric_limits<double>::infinity();
   std::size_t best_k = k_lo;
   for (std::size_t k = k_lo; k <= k_hi; ++k) {
@@ -68,9 +79,60 @@ FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, do
   return trim;
 }
 
-Icp::Icp(const IcpParams& params) : params_(params) {
+Icp::Icp(const IcpParams& params, Clock clock) : params_(params), clock_(std::move(clock)) {
   check_params(params);
-  neighbours_.resize(static_cast<std::size_t>(params.match_k));
+  neighbours_.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
+  ranked_.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
+  const auto iterations = static_cast<std::size_t>(params.max_iterations);
+  search_poses_.resize(iterations);
+  pose_change_rot_rad_.resize(iterations);
+  pose_change_trans_m_.resize(iterations);
+  recent_rotation_rad_.reserve(iterations);
+  recent_translation_m_.reserve(iterations);
+}
+
+std::size_t Icp::neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int iteration, const LocalMap& map,
+                               double displacement_m) {
+  const std::size_t k = static_cast<std::size_t>(params_.match_k);
+  const std::size_t kept_capacity = k + kExtraKept;
+  const double max_sq = params_.max_match_distance_m * params_.max_match_distance_m;
+  KeptNeighbour* kept = kept_.data() + i * kept_capacity;
+  std::size_t count = kept_count_[i];
+  if (iteration > 0 && params_.reuse_neighbours) {
+    // Re-rank the kept neighbours at the new pose (insertion sort: a few).
+    for (std::size_t j = 0; j < count; ++j) {
+      const RankedNeighbour candidate{(kept[j].p_w - p_w).squaredNorm(), &kept[j]};
+      std::size_t m = j;
+      while (m > 0 && ranked_[m - 1].distance_sq > candidate.distance_sq) {
+        ranked_[m] = ranked_[m - 1];
+        --m;
+      }
+      ranked_[m] = candidate;
+    }
+    std::size_t matched = 0;
+    while (matched < std::min(count, k) && ranked_[matched].distance_sq < max_sq) ++matched;
+    // Unkept map points are at least clear − δ away now: they can neither
+    // beat the k-th kept neighbour nor come within the match distance.
+    const double clear = clear_radius_m_[i] - displacement_m - 1e-9;
+    const bool exact = matched == k ? ranked_[k - 1].distance_sq < clear * clear : clear >= params_.max_match_distance_m;
+    if (clear > 0 && exact) return matched;
+  }
+  // A fresh search, a margin beyond the match distance so that the next
+  // iterations' small moves stay inside what it saw.
+  const double search_radius = params_.max_match_distance_m * kReuseMargin;
+  count = map.knn(p_w, search_radius, neighbours_);
+  ++searches_;
+  for (std::size_t j = 0; j < count; ++j) {
+    const MapPoint& q = map.point(neighbours_[j].index);
+    kept[j] = KeptNeighbour{q.p_w, q.normal_w, q.sigma_n_m * q.sigma_n_m + q.sigma_s_m * q.sigma_s_m, q.normal_valid};
+    ranked_[j] = RankedNeighbour{neighbours_[j].distance_sq, &kept[j]};
+  }
+  kept_count_[i] = static_cast<std::uint8_t>(count);
+  clear_radius_m_[i] = count == kept_capacity ? std::sqrt(neighbours_[count - 1].distance_sq) : search_radius;
+  searched_at_[i] = iteration;
+  std::size_t matched = 0;
+  while (matched < std::min(count, k) && ranked_[matched].distance_sq < max_sq) ++matched;
+  return matched;
 }
 
 IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl) {
@@ -86,41 +148,67 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   bool normal_test_on = false;
   recent_translation_m_.clear();
 
+  const std::size_t n = reading.size();
+  const std::size_t k = static_cast<std::size_t>(params_.match_k);
+  kept_.resize(n * (k + kExtraKept));
+  kept_count_.resize(n);
+  clear_radius_m_.resize(n);
+  searched_at_.resize(n);
+  ranges_m_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ranges_m_[i] = reading.points[i].norm();
+  searches_ = 0;
+
   Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
   double weight_sum = 0;
   double length_scale = 1;
   bool have_system = false;
+  double clock_mark = now();
 
   for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
     const double min_normal_cos = normal_test_on ? normal_test_cos : 0.0;
+    // How far the current pose moves a point of range r from where it was at
+    // each earlier iteration's pose: at most trans + rot · r.
+    const auto it_index = static_cast<std::size_t>(iteration);
+    search_poses_[it_index] = SearchPose{R, t};
+    for (std::size_t j = 0; j < it_index; ++j) {
+      pose_change_rot_rad_[j] = Eigen::AngleAxisd(R * search_poses_[j].R.transpose()).angle();
+      pose_change_trans_m_[j] = (t - search_poses_[j].t).norm();
+    }
     // Data association.
     matches_.clear();
-    for (std::size_t i = 0; i < reading.size(); ++i) {
+    for (std::size_t i = 0; i < n; ++i) {
       const Eigen::Vector3d p_w = R * reading.points[i] + t;
-      const std::size_t found = map.knn(p_w, params_.max_match_distance_m, neighbours_);
+      const auto since = static_cast<std::size_t>(searched_at_[i]);
+      const double moved = iteration > 0 ? pose_change_trans_m_[since] + pose_change_rot_rad_[since] * ranges_m_[i] : 0.0;
+      const std::size_t found = neighbours_of(i, p_w, iteration, map, moved);
+      if (found == 0) continue;
       const double read_var = reading.sigma_n_m[i] * reading.sigma_n_m[i] + reading.sigma_s_m[i] * reading.sigma_s_m[i];
       const bool check_normal = reading.normal_valid[i] != 0 && min_normal_cos > 0;
       const Eigen::Vector3d read_normal_w = check_normal ? Eigen::Vector3d(R * reading.normals[i]) : Eigen::Vector3d::Zero();
       for (std::size_t j = 0; j < found; ++j) {
-        const MapPoint& q = map.point(neighbours_[j].index);
+        const KeptNeighbour& q = *ranked_[j].neighbour;
         if (!q.normal_valid) continue;
         if (check_normal && std::abs(read_normal_w.dot(q.normal_w)) < min_normal_cos) continue;
         double w;
         if (params_.weighting == MatchWeighting::kPointWeight) {
           w = reading.weights[i];
         } else {
-          const double var = read_var + q.sigma_n_m * q.sigma_n_m + q.sigma_s_m * q.sigma_s_m;
+          const double var = read_var + q.variance;
           w = var > 0 ? 1.0 / var : 0.0;
         }
         if (!(w > 0) || !std::isfinite(w)) continue;
         const double trim_sq = params_.trim_distance == TrimDistance::kMatch
-                                   ? neighbours_[j].distance_sq
+                                   ? ranked_[j].distance_sq
                                    : [&] { const double r = q.normal_w.dot(p_w - q.p_w); return r * r; }();
         matches_.push_back(Match{p_w, q.p_w, q.normal_w, trim_sq, w});
       }
     }
     result.matches_considered = matches_.size();
-    if (matches_.size() < 6) break;
+    if (matches_.size() < 6) {
+      const double t_end = now();
+      result.matching_s += t_end - clock_mark;
+      break;
+    }
 
     // Outlier rejection (FRMSD) on the chosen distance.
     distances_sq_.resize(matches_.size());
@@ -135,6 +223,11 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       max_weight = std::max(max_weight, m.weight);
       range_sq_sum += (m.p_w - t).squaredNorm();
       ++kept;
+    }
+    {
+      const double t_matched = now();
+      result.matching_s += t_matched - clock_mark;
+      clock_mark = t_matched;
     }
     if (kept < 6) break;
     length_scale = std::max(std::sqrt(range_sq_sum / static_cast<double>(kept)), 1e-3);
@@ -203,6 +296,11 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
         converged = mean_rot < params_.averaged_rotation_rad && mean_trans < params_.averaged_translation_m;
       }
     }
+    {
+      const double t_solved = now();
+      result.solve_s += t_solved - clock_mark;
+      clock_mark = t_solved;
+    }
     if (converged && use_normal_test && !normal_test_on) {
       // The increments so far stay in the window: one more small step with
       // the normal test converges.
@@ -213,6 +311,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     }
   }
 
+  result.neighbour_searches = searches_;
   Eigen::Quaterniond q(R);
   q.normalize();
   result.T_wl.linear() = q.toRotationMatrix();

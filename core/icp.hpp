@@ -1,11 +1,21 @@
 // Weighted point-to-plane ICP against the local map (algorithm.md §3-4):
 // Gauss-Newton on SE(3), FRMSD (variable trimmed distance) outlier rejection,
 // a convergence checker, and a degeneracy report with every result.
+//
+// Neighbour reuse (speed, exact): each search keeps a few neighbours more
+// than match_k, from a radius a margin beyond max_match_distance_m, so it knows
+// every map point within some radius D of the query. A reading point that has
+// since moved by δ (bounded from the pose change: |Δt| + angle(ΔR)·range) can
+// only have new neighbours among those it kept while its k-th nearest of them
+// stays closer than D − δ; then they are re-ranked at the new pose and the
+// search is skipped. Once the increments are millimetres, most points skip it.
+// The matches are the same as a fresh search's (up to ties in distance).
 #pragma once
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <vector>
 
@@ -58,6 +68,10 @@ struct IcpParams {
   // Degenerate when the smallest eigenvalue of the (unit-balanced) normal
   // matrix is below this fraction of the largest.
   double degeneracy_ratio = 1e-3;
+  // Re-rank a point's kept neighbours instead of searching again when that
+  // provably gives the same matches (see the top of this file). false: search
+  // every point at every iteration (same result, for checking).
+  bool reuse_neighbours = true;
 };
 
 // The weakest direction of the last Gauss-Newton normal matrix. The rotation
@@ -85,6 +99,11 @@ struct IcpResult {
   // residual variance. Correlated matches make it optimistic.
   Matrix6d covariance = Matrix6d::Identity();
   Degeneracy degeneracy;
+  std::size_t neighbour_searches = 0;  // map searches made (the rest were re-ranked from the last search)
+  // From the clock given to Icp (0 without one): finding, checking and
+  // trimming correspondences vs building and solving the normal equations.
+  double matching_s = 0;
+  double solve_s = 0;
 };
 
 struct FrmsdTrim {
@@ -101,7 +120,9 @@ FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, do
 
 class Icp {
  public:
-  explicit Icp(const IcpParams& params = {});
+  using Clock = std::function<double()>;  // seconds
+
+  explicit Icp(const IcpParams& params = {}, Clock clock = {});
 
   // Registers `reading` (frame L, with sigmas or weights) to `map`, starting
   // from initial_T_wl. Allocation-free once its buffers have grown.
@@ -117,11 +138,47 @@ class Icp {
     double distance_sq;  // what FRMSD ranks (TrimDistance)
     double weight;
   };
+  // What matching needs of a map point, copied at search time so that the
+  // iterations that reuse a search read it in order instead of from the map.
+  struct KeptNeighbour {
+    Eigen::Vector3d p_w;
+    Eigen::Vector3d normal_w;
+    double variance;  // σn² + σs²
+    bool normal_valid;
+  };
+  struct RankedNeighbour {
+    double distance_sq;
+    const KeptNeighbour* neighbour;
+  };
+  // The neighbours reading point i kept from its last search (at the pose of
+  // iteration searched_at_[i]): kept_count_[i] of them from kept_[i·capacity],
+  // and every map point within clear_radius_m_[i] of the query is among them.
+  struct SearchPose {
+    Eigen::Matrix3d R;
+    Eigen::Vector3d t;
+  };
+  // Fills ranked_ with point i's neighbours at p_w (moved at most
+  // displacement_m since its last search); returns how many are matches.
+  std::size_t neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int iteration, const LocalMap& map,
+                            double displacement_m);
+  double now() const { return clock_ ? clock_() : 0.0; }
+
   IcpParams params_;
+  Clock clock_;
   std::vector<Match> matches_;
   std::vector<double> distances_sq_;
   std::vector<double> scratch_;
-  std::vector<Neighbour> neighbours_;
+  std::vector<Neighbour> neighbours_;    // one search's results
+  std::vector<RankedNeighbour> ranked_;  // the current point's neighbours, nearest first
+  std::vector<KeptNeighbour> kept_;
+  std::vector<std::uint8_t> kept_count_;
+  std::vector<double> clear_radius_m_;
+  std::vector<int> searched_at_;
+  std::vector<double> ranges_m_;
+  std::vector<SearchPose> search_poses_;      // per iteration
+  std::vector<double> pose_change_rot_rad_;   // per iteration: angle(R · R_jᵀ) for the current R
+  std::vector<double> pose_change_trans_m_;
+  std::size_t searches_ = 0;
   std::vector<double> recent_rotation_rad_;
   std::vector<double> recent_translation_m_;
 };

@@ -1,6 +1,7 @@
 #include "core/local_map.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 
@@ -22,17 +23,69 @@ LocalMap::LocalMap(const LocalMapParams& params)
 
 void LocalMap::clear() {
   for (const auto& [key, slot] : cell_slot_) {
-    voxels_[slot].points.clear();
+    slots_[slot].count = 0;
     free_slots_.push_back(slot);
   }
   cell_slot_.clear();
+  occupancy_.clear();
   point_count_ = 0;
 }
 
 bool LocalMap::has_point_within(const Eigen::Vector3d& q_w, double distance_m) const {
   if (distance_m <= 0) return false;
-  Neighbour nearest;
-  return knn(q_w, distance_m, std::span<Neighbour>(&nearest, 1)) > 0;
+  const double d2 = distance_m * distance_m;
+  const CellKey lo = cell_of(q_w - Eigen::Vector3d::Constant(distance_m), inv_voxel_);
+  const CellKey hi = cell_of(q_w + Eigen::Vector3d::Constant(distance_m), inv_voxel_);
+  if (hi.x - lo.x > 2 || hi.y - lo.y > 2 || hi.z - lo.z > 2) {  // a radius beyond a voxel: the general search
+    Neighbour nearest;
+    return knn(q_w, distance_m, std::span<Neighbour>(&nearest, 1)) > 0;
+  }
+  // The (at most 27, usually 1 to 4) voxels the ball touches; any point inside ends the search.
+  for (std::int32_t x = lo.x; x <= hi.x; ++x) {
+    for (std::int32_t y = lo.y; y <= hi.y; ++y) {
+      for (std::int32_t z = lo.z; z <= hi.z; ++z) {
+        const CellKey key{x, y, z};
+        if (!occupancy_.maybe_occupied(key)) continue;
+        const auto it = cell_slot_.find(key);
+        if (it == cell_slot_.end()) continue;
+        const std::size_t base = static_cast<std::size_t>(it->second) * cap_;
+        const Eigen::Vector3d* p = positions_.data() + base;
+        for (std::uint32_t j = 0; j < slots_[it->second].count; ++j) {
+          if ((p[j] - q_w).squaredNorm() < d2) return true;
+        }
+      }
+    }
+  }
+  return false;
+}
+
+std::size_t LocalMap::find_insert_candidates(std::span<const Eigen::Vector3d> points_l, const Eigen::Isometry3d& T_wl,
+                                             std::vector<std::uint32_t>& candidates) const {
+  candidates.clear();
+  for (std::size_t i = 0; i < points_l.size(); ++i) {
+    if (!has_point_within(T_wl * points_l[i], params_.min_point_distance_m))
+      candidates.push_back(static_cast<std::uint32_t>(i));
+  }
+  return candidates.size();
+}
+
+std::uint32_t LocalMap::slot_for(const CellKey& key) {
+  const auto it = cell_slot_.find(key);
+  if (it != cell_slot_.end()) return it->second;
+  std::uint32_t slot;
+  if (!free_slots_.empty()) {
+    slot = free_slots_.back();
+    free_slots_.pop_back();
+  } else {
+    slot = static_cast<std::uint32_t>(slots_.size());
+    slots_.emplace_back();
+    positions_.resize(positions_.size() + cap_);
+    points_.resize(points_.size() + cap_);
+  }
+  slots_[slot] = Slot{key, 0};
+  cell_slot_.emplace(key, slot);
+  occupancy_.add(key);
+  return slot;
 }
 
 MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d& T_wl) {
@@ -49,45 +102,33 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
       ++stats.rejected_too_close;
       continue;
     }
-    const CellKey key = cell_of(p_w, inv_voxel_);
-    auto it = cell_slot_.find(key);
-    if (it == cell_slot_.end()) {
-      std::uint32_t slot;
-      if (!free_slots_.empty()) {
-        slot = free_slots_.back();
-        free_slots_.pop_back();
-      } else {
-        slot = static_cast<std::uint32_t>(voxels_.size());
-        voxels_.emplace_back();
-        voxels_.back().points.reserve(cap_);
-      }
-      voxels_[slot].key = key;
-      it = cell_slot_.emplace(key, slot).first;
-    }
-    Voxel& voxel = voxels_[it->second];
-    if (voxel.points.size() >= cap_) {
+    const std::uint32_t slot = slot_for(cell_of(p_w, inv_voxel_));
+    Slot& voxel = slots_[slot];
+    if (voxel.count >= cap_) {
       ++stats.rejected_voxel_full;
       continue;
     }
-    MapPoint mp;
+    const std::uint32_t index = slot * cap_ + voxel.count++;
+    MapPoint& mp = points_[index];
+    mp = MapPoint{};
     mp.p_w = p_w;
     mp.sigma_n_m = cloud.sigma_n_m[i];
     mp.sigma_s_m = cloud.sigma_s_m[i];
     mp.line_id = line_base | cloud.rings[i];
-    new_points_.push_back(it->second * cap_ + static_cast<std::uint32_t>(voxel.points.size()));
-    voxel.points.push_back(mp);
+    positions_[index] = p_w;
+    new_points_.push_back(index);
     ++stats.inserted;
   }
   point_count_ += stats.inserted;
 
   const Eigen::Vector3d sensor_w = T_wl.translation();
   for (const std::uint32_t index : new_points_) {
-    MapPoint& mp = voxels_[index / cap_].points[index % cap_];
+    MapPoint& mp = points_[index];
     const PlaneFit fit = NormalEstimator::fit_neighbourhood(
         mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_,
         [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out) { return knn(q, radius, out); },
-        [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
-        [&](std::uint32_t i) { return point(i).line_id; });
+        [&](std::uint32_t i) -> const Eigen::Vector3d& { return positions_[i]; },
+        [&](std::uint32_t i) { return points_[i].line_id; });
     mp.normal_w = fit.normal;
     mp.curvature = fit.curvature;
     mp.normal_valid = fit.valid;
@@ -107,10 +148,11 @@ std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {
   for (const CellKey& key : doomed_) {
     const auto it = cell_slot_.find(key);
     const std::uint32_t slot = it->second;
-    removed += voxels_[slot].points.size();
-    voxels_[slot].points.clear();
+    removed += slots_[slot].count;
+    slots_[slot].count = 0;
     free_slots_.push_back(slot);
     cell_slot_.erase(it);
+    occupancy_.remove(key);
   }
   point_count_ -= removed;
   return removed;
@@ -120,14 +162,15 @@ std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std
   if (storage.empty()) return 0;
   KnnResult result(storage, max_distance_m);
   grid_knn_search(q_w, params_.voxel_size_m, result, [&](const CellKey& key, KnnResult& res) {
+    if (!occupancy_.maybe_occupied(key)) return;
     const auto it = cell_slot_.find(key);
     if (it == cell_slot_.end()) return;
     const std::uint32_t base = it->second * cap_;
-    const std::vector<MapPoint>& pts = voxels_[it->second].points;
-    for (std::size_t j = 0; j < pts.size(); ++j)
-      res.offer((pts[j].p_w - q_w).squaredNorm(), base + static_cast<std::uint32_t>(j));
+    const Eigen::Vector3d* p = positions_.data() + base;
+    const std::uint32_t count = slots_[it->second].count;
+    for (std::uint32_t j = 0; j < count; ++j) res.offer((p[j] - q_w).squaredNorm(), base + j);
   });
-  return result.size();
+  return result.finish();
 }
 
 }  // namespace tumble

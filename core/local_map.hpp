@@ -19,8 +19,12 @@
 namespace tumble {
 
 struct LocalMapParams {
-  double voxel_size_m = 0.25;            // hash cell; also the search grid
-  std::size_t max_points_per_voxel = 40; // a full voxel takes no more points
+  // Hash cell, also the search grid; the daemon's defaults. A search that
+  // finds few points nearby (sparse rings far away, the normals' 1 m line
+  // retries) visits every cell within its radius, so the cell is sized for
+  // those; a planar 0.5 m cell at 5 cm spacing holds ~100 points.
+  double voxel_size_m = 0.5;
+  std::size_t max_points_per_voxel = 100;  // a full voxel takes no more points
   double radius_m = 50;                  // voxels farther from the pose are dropped
   double min_point_distance_m = 0.05;    // no new point this close to a map point
   double max_sigma_s_m = 1.0;            // points less certain than this stay out
@@ -58,15 +62,23 @@ class LocalMap {
   // every insertion would cost O(touched voxels x points) per scan.
   MapInsertStats insert(const PointCloud& cloud, const Eigen::Isometry3d& T_wl);
 
+  // Indices of the points of `cloud` (frame L, at T_wl) with no map point
+  // within min_point_distance_m: the only ones insert() can take. A scan
+  // whose normals and σ's are costly computes them for these alone (in steady
+  // state most of a scan lands on mapped surfaces); insert() still checks
+  // every point against the points inserted before it. Returns how many.
+  std::size_t find_insert_candidates(std::span<const Eigen::Vector3d> points_l, const Eigen::Isometry3d& T_wl,
+                                     std::vector<std::uint32_t>& candidates) const;
+
   // Drops every voxel whose centre is farther than radius_m from centre_w.
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
 
   // The up to storage.size() nearest map points of q_w within max_distance_m,
   // nearest first; returns how many. Resolve an index with point().
   std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage) const;
-  const MapPoint& point(std::uint32_t index) const {
-    return voxels_[index / cap_].points[index % cap_];
-  }
+  const MapPoint& point(std::uint32_t index) const { return points_[index]; }
+  // point(index).p_w, from the compact array the searches scan.
+  const Eigen::Vector3d& position(std::uint32_t index) const { return positions_[index]; }
 
   std::size_t size() const { return point_count_; }
   std::size_t voxel_count() const { return cell_slot_.size(); }
@@ -76,22 +88,32 @@ class LocalMap {
 
   template <class F>
   void for_each_point(F&& f) const {
-    for (const auto& [key, slot] : cell_slot_)
-      for (const MapPoint& p : voxels_[slot].points) f(p);
+    for (const auto& [key, slot] : cell_slot_) {
+      const std::size_t base = static_cast<std::size_t>(slot) * cap_;
+      for (std::size_t j = 0; j < slots_[slot].count; ++j) f(points_[base + j]);
+    }
   }
 
  private:
-  struct Voxel {
+  // Voxel `slot` owns entries [slot·cap, slot·cap + count) of positions_ and
+  // points_: a voxel's positions are contiguous (the searches only read
+  // them), and a dropped voxel's slot is recycled, so a map of bounded extent
+  // stops allocating.
+  struct Slot {
     CellKey key;
-    std::vector<MapPoint> points;  // capacity max_points_per_voxel, kept when recycled
+    std::uint32_t count = 0;
   };
   bool has_point_within(const Eigen::Vector3d& q_w, double distance_m) const;
+  std::uint32_t slot_for(const CellKey& key);
 
   LocalMapParams params_;
   std::uint32_t cap_;
   double inv_voxel_;
   tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
-  std::vector<Voxel> voxels_;          // slots; some free
+  CellOccupancy occupancy_;  // of cell_slot_'s keys
+  std::vector<Slot> slots_;
+  std::vector<Eigen::Vector3d> positions_;
+  std::vector<MapPoint> points_;
   std::vector<std::uint32_t> free_slots_;
   std::size_t point_count_ = 0;
   std::uint32_t insert_count_ = 0;

@@ -2,6 +2,7 @@
 // q = (w, x, y, z) = q_WI and the reference direction e_z.
 #include "core/madgwick.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/rotation.hpp"
@@ -34,7 +35,13 @@ bool MadgwickFilter::update(const Eigen::Vector3d& gyro_rad_s, const Eigen::Vect
   // Already aligned to rounding: normalising a gradient of pure rounding noise
   // would take a full β·dt step in an arbitrary direction.
   if (gradient_norm < 1e-12) return true;
-  const Eigen::Vector4d step = params_.beta * dt_s * gradient / gradient_norm;
+  // A unit-quaternion step of length s turns the attitude by 2s: capping s at
+  // half the tilt error stops the fixed-length step from overshooting (and
+  // then chattering by β·dt around the truth) once the error is that small.
+  const Eigen::Vector3d up(2.0 * (x * z - w * y), 2.0 * (y * z + w * x), 1.0 - 2.0 * (x * x + y * y));
+  const double tilt_error_rad = std::atan2(up.cross(a).norm(), up.dot(a));
+  const double step_length = std::min(params_.beta * dt_s, 0.5 * tilt_error_rad);
+  const Eigen::Vector4d step = step_length * gradient / gradient_norm;
   q_wi_ = Eigen::Quaterniond(w - step[0], x - step[1], y - step[2], z - step[3]).normalized();
   return true;
 }

@@ -10,7 +10,9 @@
 // Discretisation (our choice): the gyro part is integrated exactly,
 // q ⊗ Exp(ω dt), so a constant rate is tracked without the first-order error
 // of Madgwick's q += q̇ dt (0.11 rad per step at 11 rad/s and 100 Hz); the
-// gradient step is then taken at the predicted attitude.
+// gradient step is then taken at the predicted attitude, and is no longer
+// than the tilt error (ours): the normalised step has a fixed length β·dt, so
+// uncapped it overshoots a smaller error and chatters by β·dt around it.
 //
 // Accelerometer gate (ours): during shocks (the rail's 200 m/s² peaks) the
 // accelerometer does not measure gravity, so the correction is skipped when

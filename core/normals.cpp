@@ -45,17 +45,26 @@ NormalEstimator::NormalEstimator(const NormalParams& params) : params_(params) {
   neighbours_.reserve(static_cast<std::size_t>(std::max(params.k, params.line_retry_k)));
 }
 
-void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint) {
-  grid_.build(cloud.points, params_.grid_cell_m);
+void NormalEstimator::index(const PointCloud& cloud) { grid_.build(cloud.points, params_.grid_cell_m); }
+
+void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i) {
   auto knn = [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out) { return grid_.knn(q, radius, out); };
   auto position = [&](std::uint32_t index) -> const Eigen::Vector3d& { return cloud.points[index]; };
-  for (std::size_t i = 0; i < cloud.size(); ++i) {
-    const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, neighbours_, knn, position,
-                                           [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; });
-    cloud.normals[i] = fit.normal;
-    cloud.curvatures[i] = fit.curvature;
-    cloud.normal_valid[i] = fit.valid ? 1 : 0;
-  }
+  auto line = [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; };
+  const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, neighbours_, knn, position, line);
+  cloud.normals[i] = fit.normal;
+  cloud.curvatures[i] = fit.curvature;
+  cloud.normal_valid[i] = fit.valid ? 1 : 0;
+}
+
+void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint) {
+  index(cloud);
+  for (std::size_t i = 0; i < cloud.size(); ++i) fit_point(cloud, viewpoint, i);
+}
+
+void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint,
+                               std::span<const std::uint32_t> indices) {
+  for (const std::uint32_t i : indices) fit_point(cloud, viewpoint, i);
 }
 
 }  // namespace tumble

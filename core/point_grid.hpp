@@ -34,6 +34,7 @@ class PointGrid {
   };
   double cell_size_m_ = 1;
   tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
+  CellOccupancy occupancy_{16};  // of cell_slot_'s keys
   std::vector<CellRange> ranges_;               // per slot
   std::vector<std::uint32_t> slot_of_point_;    // per input point
   std::vector<Eigen::Vector3d> sorted_points_;  // grouped by cell

@@ -255,7 +255,9 @@ void compute_point_weights(const PointWeightParams& params, const Trajectory& tr
       break;
     }
     case WeightModel::SAW: {
-      const double t_last = *std::max_element(input.times_s.begin(), input.times_s.end());
+      const double t_last = std::isnan(input.t_scan_end_s)
+                                ? *std::max_element(input.times_s.begin(), input.times_s.end())
+                                : input.t_scan_end_s;
       const double duration = t_last - input.t_scan_start_s;
       for (std::size_t i = 0; i < n; ++i) {
         const double scan_angle =

@@ -37,6 +37,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <string_view>
@@ -83,6 +84,9 @@ struct PointWeightInput {
   std::span<const std::uint8_t> rings;        // laser index (LidarPoint::laser)
   double t_scan_start_s = 0.0;
   bool deskewed = true;                       // selects the σ_v/σ_ω pair
+  // SAW's t_last: the scan's last point time. NaN: the latest of times_s (a
+  // caller weighing a subset of the scan passes the whole scan's).
+  double t_scan_end_s = std::numeric_limits<double>::quiet_NaN();
 };
 
 // Caller-owned outputs, each the length of the input (PointCloud's

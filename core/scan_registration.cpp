@@ -31,6 +31,7 @@ void check_odometry_params(const OdometryParams& p) {
     fail("weights.map_max_sigma_m (" + std::to_string(p.weights.map_max_sigma_m) + ") and map.max_sigma_s_m (" +
          std::to_string(p.map.max_sigma_s_m) + ") must be equal");
   if (!(p.min_position_sigma_m > 0)) fail("min_position_sigma_m must be > 0");
+  if (!(p.registration_voxel_size_m >= 0)) fail("registration_voxel_size_m must be >= 0");
 }
 
 ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock)
@@ -38,8 +39,9 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock)
       clock_(std::move(clock)),
       downsampler_(params.voxel_size_m),
       normals_(params.reading_normals),
-      icp_(icp_params_for(params)),
-      map_(params.map) {}
+      icp_(icp_params_for(params), clock_),
+      map_(params.map),
+      registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
 void ScanRegistration::reset() {
   map_.clear();
@@ -59,9 +61,11 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   timing.measured = static_cast<bool>(clock_);
   const double clock_start = now();
   double mark = clock_start;
+  // Stages run in pieces (normals and σ's of the map's new points come after
+  // ICP): each piece adds to its stage, and the stages sum to the total.
   auto lap = [&](double& stage) {
     const double t = now();
-    stage = t - mark;
+    stage += t - mark;
     mark = t;
   };
 
@@ -77,22 +81,63 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
 
   downsampler_.apply(raw_, reading_);
   result.points_downsampled = reading_.size();
+  if (params_.registration_voxel_size_m > params_.voxel_size_m) {
+    registration_selector_.select(reading_.points, registered_indices_);
+  } else {
+    registered_indices_.resize(reading_.size());
+    for (std::size_t i = 0; i < reading_.size(); ++i) registered_indices_[i] = static_cast<std::uint32_t>(i);
+  }
+  result.points_registered = registered_indices_.size();
   lap(timing.downsample_s);
   if (reading_.size() < params_.min_scan_points) return ScanOutcome::TooSmall;
 
-  normals_.estimate(reading_, Eigen::Vector3d::Zero());
-  lap(timing.normals_s);
+  // Normals and σ's are costly per point and needed only for the points ICP
+  // registers and the points the map will take (few, in steady state): each
+  // is fitted from the whole down-sampled cloud, once. The GVTW corner term
+  // compares the σ's of neighbouring points along a ring, so with it every
+  // point gets its σ (and so its normal) first.
+  const bool weigh_whole_scan =
+      params_.weights.model == WeightModel::GVTW && params_.weights.corner_point_uncertainty_m != 0.0;
+  const double t_last = *std::max_element(reading_.times_s.begin(), reading_.times_s.end());
+  auto weigh = [&](PointCloud& cloud) {
+    PointWeightInput input;
+    input.points_l = cloud.points;
+    input.times_s = cloud.times_s;
+    input.normals = cloud.normals;
+    input.curvatures = cloud.curvatures;
+    input.rings = cloud.rings;
+    input.t_scan_start_s = t_start;
+    input.t_scan_end_s = t_last;
+    input.deskewed = params_.deskew;
+    compute_point_weights(params_.weights, trajectory, input,
+                          PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
+  };
+  auto fit_normals = [&](std::span<const std::uint32_t> indices) {
+    normals_todo_.clear();
+    for (const std::uint32_t i : indices) {
+      if (normal_done_[i]) continue;
+      normal_done_[i] = 1;
+      normals_todo_.push_back(i);
+    }
+    normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+  };
+  auto gather = [&](std::span<const std::uint32_t> indices, PointCloud& out) {
+    out.resize(indices.size());
+    for (std::size_t j = 0; j < indices.size(); ++j) out.copy_point(j, reading_, indices[j]);
+  };
 
-  PointWeightInput input;
-  input.points_l = reading_.points;
-  input.times_s = reading_.times_s;
-  input.normals = reading_.normals;
-  input.curvatures = reading_.curvatures;
-  input.rings = reading_.rings;
-  input.t_scan_start_s = t_start;
-  input.deskewed = params_.deskew;
-  compute_point_weights(params_.weights, trajectory, input,
-                        PointWeightOutput{reading_.sigma_n_m, reading_.sigma_s_m, reading_.weights}, weight_workspace_);
+  if (weigh_whole_scan) {
+    normals_.estimate(reading_, Eigen::Vector3d::Zero());
+    normal_done_.assign(reading_.size(), 1);
+  } else {
+    normals_.index(reading_);
+    normal_done_.assign(reading_.size(), 0);
+    fit_normals(registered_indices_);
+  }
+  lap(timing.normals_s);
+  if (weigh_whole_scan) weigh(reading_);
+  gather(registered_indices_, registered_);
+  if (!weigh_whole_scan) weigh(registered_);
   lap(timing.weights_s);
 
   const Eigen::Isometry3d predicted = trajectory.pose_at(t_start);
@@ -101,7 +146,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.map_initialised = true;
     result.registered = true;
   } else {
-    const IcpResult icp = icp_.align(reading_, map_, predicted);
+    const IcpResult icp = icp_.align(registered_, map_, predicted);
     result.registered = icp.matches_kept >= 6;
     result.converged = icp.converged;
     result.iterations = icp.iterations;
@@ -109,6 +154,8 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.residual_rms_m = icp.residual_rms_m;
     result.covariance = icp.covariance;
     result.degeneracy = icp.degeneracy;
+    timing.icp_matching_s = icp.matching_s;
+    timing.icp_solve_s = icp.solve_s;
     if (result.registered) result.T_wl = icp.T_wl;
   }
   const double trace_sigma = std::sqrt(std::max(result.covariance.topLeftCorner<3, 3>().trace() / 3.0, 0.0));
@@ -118,7 +165,16 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   lap(timing.registration_s);
 
   if (result.registered) {
-    result.map_insert = map_.insert(reading_, result.T_wl);
+    // Only points with no map point within the minimum distance can go in.
+    const std::size_t candidates = map_.find_insert_candidates(reading_.points, result.T_wl, candidate_indices_);
+    lap(timing.map_update_s);
+    fit_normals(candidate_indices_);
+    lap(timing.normals_s);
+    gather(candidate_indices_, map_candidates_);
+    if (!weigh_whole_scan) weigh(map_candidates_);
+    lap(timing.weights_s);
+    result.map_insert = map_.insert(map_candidates_, result.T_wl);
+    result.map_insert.rejected_too_close += reading_.size() - candidates;
     map_.remove_far_from(result.T_wl.translation());
   }
   result.map_points = map_.size();

@@ -115,21 +115,38 @@ class Trajectory {
   // Index i of the segment [i, i+1] holding t, clamped to the buffer (size ≥ 2).
   std::size_t locate(double t_s, std::size_t& hint) const;
 
+  friend class RelativePoseInterpolator;
+
   RingBuffer<Entry> ring_;
   SpeedUncertaintyParams params_;
 };
 
 // T_WL(t_ref)⁻¹ T_WL(t) for points of one scan, in (nearly) time order: the
 // de-skew transform of a point fired at t into the lidar frame at t_ref.
+//
+// Per point (de-skewing runs it on every return): the segment around t is
+// prepared once in the reference frame (slerp is linear in the quaternions'
+// coefficients, so T_ref⁻¹ distributes over it), leaving two sines of small
+// angles (a short series, exact to rounding) and a quaternion rotation.
 class RelativePoseInterpolator {
  public:
   RelativePoseInterpolator(const Trajectory& trajectory, double t_ref_s);
   Eigen::Isometry3d to_reference(double t_s);
+  // to_reference(t_s) * p, without forming the pose.
+  Eigen::Vector3d point_to_reference(double t_s, const Eigen::Vector3d& p);
 
  private:
+  // The segment [i, i+1] in the reference frame; false outside the samples.
+  bool prepare(double t_s);
+
   const Trajectory& trajectory_;
   Eigen::Isometry3d reference_inverse_;
   std::size_t hint_ = 0;
+  std::size_t segment_ = static_cast<std::size_t>(-1);
+  double t_a_s_ = 0, t_b_s_ = 0, inv_dt_ = 0;
+  double theta_ = 0, inv_sin_theta_ = 0;  // slerp angle; theta_ = 0: linear weights
+  Eigen::Vector4d qa_ = Eigen::Vector4d::Zero(), qb_ = Eigen::Vector4d::Zero();  // q_ref⁻¹ q_a, ±q_ref⁻¹ q_b (x y z w)
+  Eigen::Vector3d pa_ = Eigen::Vector3d::Zero(), dp_ = Eigen::Vector3d::Zero();  // R_refᵀ(p_a − p_ref), R_refᵀ(p_b − p_a)
 };
 
 // δ, θ from a scan start to the points' times, O(1) per point in time order.

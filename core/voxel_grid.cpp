@@ -1,35 +1,62 @@
 #include "core/voxel_grid.hpp"
 
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace tumble {
+
+namespace {
+constexpr std::uint32_t kNoSlot = ~std::uint32_t{0};
+}  // namespace
 
 VoxelDownsampler::VoxelDownsampler(double voxel_size_m) : voxel_size_m_(voxel_size_m) {
   if (!(voxel_size_m > 0))
     throw std::invalid_argument("voxel_size_m must be > 0, got " + std::to_string(voxel_size_m));
 }
 
-void VoxelDownsampler::apply(const PointCloud& in, PointCloud& out) {
+void VoxelDownsampler::select(std::span<const Eigen::Vector3d> points, std::vector<std::uint32_t>& indices) {
   const double inv = 1.0 / voxel_size_m_;
   cell_slot_.clear();
-  best_index_.clear();
+  indices.clear();
   best_distance_sq_.clear();
-  for (std::size_t i = 0; i < in.size(); ++i) {
-    const Eigen::Vector3d& p = in.points[i];
+  // The cell of point i − kRecentPeriod, checked before the hash map: in a
+  // lidar scan in firing order (RS-16: 16 lasers per firing) that is the same
+  // laser one firing earlier, a few millimetres away, usually in the same cell.
+  constexpr std::size_t kRecentPeriod = 16;
+  std::array<std::pair<CellKey, std::uint32_t>, kRecentPeriod> recent;
+  recent.fill({CellKey{}, kNoSlot});
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& p = points[i];
     const CellKey key = cell_of(p, inv);
     const Eigen::Vector3d centre =
         (Eigen::Vector3d(key.x, key.y, key.z) + Eigen::Vector3d::Constant(0.5)) * voxel_size_m_;
     const double d2 = (p - centre).squaredNorm();
-    const auto [it, inserted] = cell_slot_.try_emplace(key, static_cast<std::uint32_t>(best_index_.size()));
-    if (inserted) {
-      best_index_.push_back(static_cast<std::uint32_t>(i));
-      best_distance_sq_.push_back(d2);
-    } else if (d2 < best_distance_sq_[it->second]) {
-      best_index_[it->second] = static_cast<std::uint32_t>(i);
-      best_distance_sq_[it->second] = d2;
+    auto& [recent_key, recent_slot] = recent[i % kRecentPeriod];
+    std::uint32_t slot;
+    if (recent_slot != kNoSlot && recent_key == key) {
+      slot = recent_slot;
+    } else {
+      const auto [it, inserted] = cell_slot_.try_emplace(key, static_cast<std::uint32_t>(indices.size()));
+      slot = it->second;
+      recent_key = key;
+      recent_slot = slot;
+      if (inserted) {
+        indices.push_back(static_cast<std::uint32_t>(i));
+        best_distance_sq_.push_back(d2);
+        continue;
+      }
+    }
+    if (d2 < best_distance_sq_[slot]) {
+      indices[slot] = static_cast<std::uint32_t>(i);
+      best_distance_sq_[slot] = d2;
     }
   }
+}
+
+void VoxelDownsampler::apply(const PointCloud& in, PointCloud& out) {
+  select(in.points, best_index_);
   out.resize(best_index_.size());
   for (std::size_t j = 0; j < best_index_.size(); ++j) out.copy_point(j, in, best_index_[j]);
 }

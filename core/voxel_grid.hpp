@@ -6,6 +6,7 @@
 #include <tsl/robin_map.h>
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/grid_search.hpp"
@@ -21,6 +22,10 @@ class VoxelDownsampler {
   // (deterministic for a given input); ties go to the earlier point. `out` may
   // not alias `in`. Buffers are kept between calls.
   void apply(const PointCloud& in, PointCloud& out);
+
+  // The indices in `points` of the representatives apply() would keep, in
+  // the same order. `indices` is the caller's buffer, reused.
+  void select(std::span<const Eigen::Vector3d> points, std::vector<std::uint32_t>& indices);
 
   double voxel_size_m() const { return voxel_size_m_; }
 

@@ -26,7 +26,8 @@ CommandLine parse_command_line(const std::vector<std::string>& args) {
       "Exit codes: 0 clean stop, 1 runtime failure, 2 bad configuration or command line.");
 
   CommandLine out;
-  std::string config_path, rate, trajectory_out, model, lcm_url, log_level, record_dir;
+  std::string config_path, rate, trajectory_out, scan_log, model, lcm_url, log_level, record_dir;
+  std::vector<std::string> settings;
   std::vector<std::string> replay;
   app.add_option("--config", config_path, "YAML configuration file (default: the compiled defaults)")
       ->check(CLI::ExistingFile);
@@ -39,6 +40,10 @@ CommandLine parse_command_line(const std::vector<std::string>& args) {
       app.add_option("--rate", rate, "replay speed: 1 (real time), N (N times faster) or max")->needs(replay_option);
   auto* trajectory_option =
       app.add_option("--trajectory-out", trajectory_out, "write registered scan poses (TUM format) to FILE");
+  auto* scan_log_option =
+      app.add_option("--scan-log", scan_log, "write one CSV row per registered scan (quality, stage times) to FILE");
+  app.add_option("--set", settings, "set any configuration key, e.g. --set map.radius_m=30 (repeatable)")
+      ->type_name("KEY=VALUE");
   auto* record_option = app.add_option("--record", record_dir, "record the live sensors' bytes into DIR (record.dir)")
                             ->excludes(replay_option);
   auto* url_option = app.add_option("--lcm-url", lcm_url, "LCM URL (lcm.url)");
@@ -69,6 +74,13 @@ CommandLine parse_command_line(const std::vector<std::string>& args) {
   if (replay_option->count() > 0) out.replay = ReplayFiles{replay.at(0), replay.at(1)};
   if (rate_option->count() > 0) out.rate = parse_replay_rate(rate);
   if (trajectory_option->count() > 0) out.trajectory_out = trajectory_out;
+  if (scan_log_option->count() > 0) out.scan_log = scan_log;
+  for (const std::string& setting : settings) {
+    const std::size_t equals = setting.find('=');
+    if (equals == std::string::npos || equals == 0)
+      throw UsageError("--set " + setting + ": expected KEY=VALUE, e.g. --set map.radius_m=30");
+    out.overrides.push_back({setting.substr(0, equals), setting.substr(equals + 1)});
+  }
   if (record_option->count() > 0) out.overrides.push_back({"record.dir", record_dir});
   if (url_option->count() > 0) out.overrides.push_back({"lcm.url", lcm_url});
   if (model_option->count() > 0) out.overrides.push_back({"registration.model", model});

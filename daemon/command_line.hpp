@@ -35,8 +35,9 @@ struct CommandLine {
   std::optional<ReplayFiles> replay;
   ReplayRate rate;
   std::optional<std::string> trajectory_out;  // TUM-format file of registered scan poses
+  std::optional<std::string> scan_log;        // CSV of per-scan registration figures
   bool print_config = false;
-  std::vector<ConfigOverride> overrides;  // --model, --deskew, --lcm-url, --log-level, --record
+  std::vector<ConfigOverride> overrides;  // --set, --model, --deskew, --lcm-url, --log-level, --record
   std::string help;                       // --help given: print this and exit 0
 };
 

@@ -102,6 +102,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("model", r.model, Choice<WeightModel>{kModels});
     v.field("deskew", r.deskew, AnyText{});
     v.field("voxel_size_m", r.voxel_size_m, Range{0.005, 1.0});
+    v.field("icp_voxel_size_m", r.icp_voxel_size_m, Range{0.0, 2.0});
     v.field("normal_k_map", r.normal_k_map, IntRange{3, 200});
     v.field("normal_k_reading", r.normal_k_reading, IntRange{3, 200});
     v.field("max_match_distance_m", r.max_match_distance_m, Range{0.01, 10.0});

@@ -76,6 +76,7 @@ struct RegistrationConfig {
   WeightModel model = WeightModel::GVTW;
   bool deskew = true;
   double voxel_size_m = 0.05;
+  double icp_voxel_size_m = 0.2;
   int normal_k_map = 20;
   int normal_k_reading = 15;
   double max_match_distance_m = 1.0;

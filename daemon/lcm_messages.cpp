@@ -36,6 +36,7 @@ void to_lcm(const RegistrationRecord& r, const std::vector<std::string>& stage_n
   std::copy(r.velocity_m_s.begin(), r.velocity_m_s.end(), out.velocity_m_s);
   std::copy(r.covariance.begin(), r.covariance.end(), out.covariance);
   out.iterations = r.iterations;
+  out.registered = r.registered;
   out.converged = r.converged;
   out.inlier_ratio = r.inlier_ratio;
   out.residual_m = r.residual_m;

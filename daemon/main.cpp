@@ -13,6 +13,7 @@
 #include "daemon/logging.hpp"
 #include "daemon/main_loop.hpp"
 #include "daemon/run.hpp"
+#include "daemon/sensor_parts.hpp"
 
 int main(int argc, char** argv) {
   using namespace tumble::daemon;
@@ -47,11 +48,7 @@ int main(int argc, char** argv) {
       spdlog::error("lcm.url: LCM cannot start on {}", config.lcm.url);
       return 1;
     }
-    // The drivers and the core plug in here (daemon/seams.hpp).
-    const PartsFactory make_parts = [](boost::asio::io_context&, const DaemonConfig&, const RunOptions&) {
-      return PipelineParts{};
-    };
-    return run_daemon(config, run_options(command_line), lcm, signals, make_parts);
+    return run_daemon(config, run_options(command_line), lcm, signals, make_sensor_parts);
   } catch (const std::exception& e) {
     spdlog::critical("{}", e.what());
     return 1;

@@ -74,16 +74,24 @@ void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
   if (!parts_.lidar_source && !parts_.imu_source) return;
 
   emit_imu_ = [this](const ImuSample& sample) {
-    push(imu_, sample);
+    wait_for_room(imu_, &io_blocked_on_imu_);
+    imu_.push(sample);
     fuser_wakeup_.notify();
   };
+  republish_ = [this](const TrajectoryRecord& record) { trajectory_.publish(record); };
+  lidar_input_ended_.store(!parts_.lidar_source, std::memory_order_release);
   io_work_.emplace(io_.get_executor());
   io_heartbeat_timer_.emplace(io_);
   boost::asio::post(io_, [this] {
     beat_io();
     if (parts_.lidar_source) {
       ++sources_running_;
-      parts_.lidar_source->start([this](const LidarDatagram& d) { on_lidar_datagram(d); }, [this] { on_source_end(); });
+      parts_.lidar_source->start([this](const LidarDatagram& d) { on_lidar_datagram(d); },
+                                 [this] {
+                                   lidar_input_ended_.store(true, std::memory_order_release);
+                                   registration_wakeup_.notify();
+                                   on_source_end();
+                                 });
     }
     if (parts_.imu_source) {
       ++sources_running_;
@@ -136,7 +144,8 @@ void Pipeline::wait_for_room(SpscRing<T>& ring, std::atomic<bool>* blocked) {
   if (policy_ != OverflowPolicy::Wait || !ring.full()) return;
   if (blocked != nullptr) {
     blocked->store(true, std::memory_order_release);
-    registration_wakeup_.notify();  // the registration thread may be waiting on exactly this
+    registration_wakeup_.notify();  // the compute threads may be waiting on exactly this
+    fuser_wakeup_.notify();
   }
   while (ring.full() && !abandon_.load(std::memory_order_acquire)) std::this_thread::sleep_for(kRoomPoll);
   if (blocked != nullptr) blocked->store(false, std::memory_order_release);
@@ -173,9 +182,25 @@ void Pipeline::on_source_end() {
 
 // ---- fuser thread ---------------------------------------------------------------
 
+bool Pipeline::fuser_may_add(double t_s, double previous_t_s) const {
+  if (policy_ != OverflowPolicy::Wait || !parts_.registration) return true;
+  // Read the newest point first: a scan completed by that point has its end
+  // stored before it (release/acquire), or has been registered since.
+  const double newest_point = newest_point_s_.load(std::memory_order_acquire);
+  const double held_end = held_scan_end_s_.load(std::memory_order_acquire);
+  if (held_end != std::numeric_limits<double>::infinity()) return previous_t_s < held_end;
+  if (t_s < newest_point) return true;
+  if (lidar_input_ended_.load(std::memory_order_acquire) && lidar_.empty()) return true;
+  // The io thread waits for room in the IMU ring, so no lidar data can come
+  // before this sample goes: a lidar gap, in which no scan ends.
+  return io_blocked_on_imu_.load(std::memory_order_acquire) && imu_.full();
+}
+
 void Pipeline::run_fuser() {
   FuserStage& fuser = *parts_.fuser;
   ImuSample sample;
+  bool have_sample = false;
+  double previous_t_s = -std::numeric_limits<double>::infinity();
   RegistrationRecord correction;
   TrajectoryRecord fused;
   for (;;) {
@@ -184,16 +209,22 @@ void Pipeline::run_fuser() {
     if (stop == 2) break;
     bool worked = false;
     while (corrections_.pop(correction)) {
-      fuser.add_correction(correction);
+      fuser.add_correction(correction, republish_);
+      corrections_applied_.fetch_add(1, std::memory_order_acq_rel);
+      registration_wakeup_.notify();
       worked = true;
     }
-    if (imu_.pop(sample)) {
+    if (!have_sample) have_sample = imu_.pop(sample);
+    if (have_sample && fuser_may_add(sample.t_s, previous_t_s)) {
+      have_sample = false;
       worked = true;
+      previous_t_s = sample.t_s;
       for (std::size_t k = 0; k < 3; ++k) {
         if (sample.accel_saturated[k]) counters_.accel_saturated_samples[k].fetch_add(1, std::memory_order_relaxed);
         if (sample.gyro_saturated[k]) counters_.gyro_saturated_samples[k].fetch_add(1, std::memory_order_relaxed);
       }
       const bool extended = fuser.add_imu(sample, fused);
+      fuser_time_s_.store(sample.t_s, std::memory_order_release);
       counters_.fuser_initialised.store(extended, std::memory_order_relaxed);
       if (extended) {
         trajectory_.publish(fused);
@@ -206,9 +237,20 @@ void Pipeline::run_fuser() {
       registration_wakeup_.notify();
     }
     if (worked) continue;
-    if (stop == 1) break;  // drained
-    fuser_wakeup_.wait(kIdleWait, [this] {
-      return !imu_.empty() || !corrections_.empty() || fuser_stop_.load(std::memory_order_acquire) != 0;
+    if (stop == 1 && !have_sample) break;  // drained
+    // Until something that decides the gate changes.
+    const double held_end = held_scan_end_s_.load(std::memory_order_acquire);
+    const double newest_point = newest_point_s_.load(std::memory_order_acquire);
+    const bool lidar_ended = lidar_input_ended_.load(std::memory_order_acquire);
+    const bool lidar_empty = lidar_.empty();
+    const bool io_blocked = io_blocked_on_imu_.load(std::memory_order_acquire);
+    fuser_wakeup_.wait(kIdleWait, [&] {
+      return (!have_sample && !imu_.empty()) || !corrections_.empty() ||
+             fuser_stop_.load(std::memory_order_acquire) != stop ||
+             held_scan_end_s_.load(std::memory_order_acquire) != held_end ||
+             newest_point_s_.load(std::memory_order_acquire) != newest_point ||
+             lidar_input_ended_.load(std::memory_order_acquire) != lidar_ended || lidar_.empty() != lidar_empty ||
+             io_blocked_on_imu_.load(std::memory_order_acquire) != io_blocked;
     });
   }
   fuser_finished_.store(true, std::memory_order_release);
@@ -250,25 +292,57 @@ void Pipeline::run_registration() {
     const int stop = registration_stop_.load(std::memory_order_acquire);
     if (stop == 2) break;
     if (!holding) {
-      const bool got = lidar_.pop_with([&](const PointBlock& block) { holding = stage.add_points(block); });
+      double block_end_s = 0.0;
+      const bool got = lidar_.pop_with([&](const PointBlock& block) {
+        holding = stage.add_points(block);
+        const auto points = block.all_points();
+        block_end_s = points.empty() ? block.t_s : points.back().t_s;
+      });
       if (!got) {
+        if (lidar_input_ended_.load(std::memory_order_acquire) && lidar_.empty() &&
+            newest_point_s_.load(std::memory_order_relaxed) != std::numeric_limits<double>::infinity()) {
+          newest_point_s_.store(std::numeric_limits<double>::infinity(), std::memory_order_release);
+          fuser_wakeup_.notify();
+        }
         if (stop == 1) break;  // drained
-        registration_wakeup_.wait(
-            kIdleWait, [this] { return !lidar_.empty() || registration_stop_.load(std::memory_order_acquire) != 0; });
+        const bool lidar_ended = lidar_input_ended_.load(std::memory_order_acquire);
+        registration_wakeup_.wait(kIdleWait, [&] {
+          return !lidar_.empty() || registration_stop_.load(std::memory_order_acquire) != 0 ||
+                 lidar_input_ended_.load(std::memory_order_acquire) != lidar_ended;
+        });
         continue;
       }
+      stage.report(counters_);
+      // The fuser's gate: the held scan's end before the newest point (see fuser_may_add).
+      if (holding) held_scan_end_s_.store(stage.held_scan_span().end_s, std::memory_order_release);
+      if (block_end_s > newest_point_s_.load(std::memory_order_relaxed))
+        newest_point_s_.store(block_end_s, std::memory_order_release);
+      fuser_wakeup_.notify();
       if (!holding) continue;
       complete_ns = steady_now_ns();
     }
     const double scan_end_s = stage.held_scan_span().end_s;
     const std::optional<double> newest = newest_trajectory_time();
-    if ((!newest || *newest < scan_end_s) && trajectory_may_still_come(complete_ns)) {
+    // Replaying at max rate, the window must include every correction sent so
+    // far (the fuser applies them before its next sample, so this is short).
+    const bool corrections_pending =
+        policy_ == OverflowPolicy::Wait &&
+        corrections_applied_.load(std::memory_order_acquire) < corrections_pushed_ &&
+        !fuser_finished_.load(std::memory_order_acquire);
+    // (Until it initialises, the fuser publishes no trajectory: having passed
+    // the scan's end is what counts then.)
+    const bool fuser_passed_scan = policy_ == OverflowPolicy::Wait && !newest &&
+                                   fuser_time_s_.load(std::memory_order_acquire) >= scan_end_s;
+    const bool trajectory_short = !fuser_passed_scan && (!newest || *newest < scan_end_s);
+    if ((corrections_pending || trajectory_short) && trajectory_may_still_come(complete_ns)) {
       const std::uint64_t published = trajectory_.published();
       const std::int64_t consumed = counters_.imu_samples.load(std::memory_order_acquire);
       const bool io_blocked = io_blocked_on_lidar_.load(std::memory_order_acquire);
       const bool imu_ended = imu_input_ended_.load(std::memory_order_acquire);
+      const std::uint64_t applied = corrections_applied_.load(std::memory_order_acquire);
       registration_wakeup_.wait(kIdleWait, [&] {  // until something that decides the wait changes
         return trajectory_.published() != published ||
+               corrections_applied_.load(std::memory_order_acquire) != applied ||
                counters_.imu_samples.load(std::memory_order_acquire) != consumed ||
                io_blocked_on_lidar_.load(std::memory_order_acquire) != io_blocked ||
                imu_input_ended_.load(std::memory_order_acquire) != imu_ended ||
@@ -279,12 +353,18 @@ void Pipeline::run_registration() {
     }
     register_scan(complete_ns);
     holding = false;
+    held_scan_end_s_.store(std::numeric_limits<double>::infinity(), std::memory_order_release);
+    fuser_wakeup_.notify();
   }
 }
 
 void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   RegistrationStage& stage = *parts_.registration;
   const RegistrationStage::TimeSpan span = stage.held_scan_span();
+  if (trajectory_.published() == 0) {  // the fuser has not initialised: nothing to place the scan with
+    stage.discard_held_scan();
+    return;
+  }
   WindowRead window = read_window(trajectory_, span.start_s, span.end_s, window_);
   if (window.status == WindowStatus::NotYetReached) {
     // No more waiting: register with the trajectory there is.
@@ -302,6 +382,7 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   registration_out_.scan_complete_steady_ns = scan_complete_steady_ns;
   counters_.scans_registered.fetch_add(1, std::memory_order_relaxed);
   push(corrections_, registration_out_);
+  ++corrections_pushed_;
   fuser_wakeup_.notify();
   push(registrations_, registration_out_);
   scan_reports_.push(registration_out_);  // statistics: dropping the oldest is fine even in replay

@@ -11,10 +11,15 @@
 //
 // Live, a full ring drops its oldest item (counted). Replaying at --rate max
 // nothing may be dropped and two runs must give the same output, so
-// producers wait for room instead (OverflowPolicy::Wait), and a complete scan
-// waits for the trajectory to cover it until no more IMU data can arrive.
-// That assumes the replay sources deliver lidar and IMU records merged in
-// record-time order.
+// producers wait for room instead (OverflowPolicy::Wait), a complete scan
+// waits for the trajectory to cover it until no more IMU data can arrive,
+// and the two compute threads keep in step the way a single-threaded
+// odometry would: the fuser adds no IMU sample past the end of a complete
+// scan whose correction it has not applied, nor one later than the lidar
+// data the registration thread has seen (a scan may still end before it).
+// Which samples the correction re-propagates, and so every output, is then
+// fixed by the data. That assumes the replay sources deliver lidar and IMU
+// records merged in record-time order.
 #pragma once
 
 #include <atomic>
@@ -23,6 +28,7 @@
 #include <boost/asio/steady_timer.hpp>
 #include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -108,6 +114,7 @@ class Pipeline {
   void on_imu_bytes(const ImuBytes& bytes);
   void on_source_end();
   void run_fuser();
+  bool fuser_may_add(double t_s, double previous_t_s) const;
   void run_registration();
   std::optional<double> newest_trajectory_time() const;
   bool trajectory_may_still_come(std::int64_t scan_complete_steady_ns) const;
@@ -145,11 +152,24 @@ class Pipeline {
   std::optional<boost::asio::steady_timer> io_heartbeat_timer_;
   int sources_running_ = 0;
   std::atomic<bool> imu_input_ended_{false};
+  std::atomic<bool> lidar_input_ended_{false};
   std::atomic<bool> io_blocked_on_lidar_{false};
+  std::atomic<bool> io_blocked_on_imu_{false};
+
+  // fuser thread
+  std::function<void(const TrajectoryRecord&)> republish_;
+  std::atomic<std::uint64_t> corrections_applied_{0};
+  std::atomic<double> fuser_time_s_{-std::numeric_limits<double>::infinity()};  // newest sample added
 
   // registration thread
   std::vector<TrajectoryRecord> window_;  // sized once: the trajectory buffer's capacity
   RegistrationRecord registration_out_;
+  std::uint64_t corrections_pushed_ = 0;
+  // The fuser's step gate (OverflowPolicy::Wait): the end of the complete scan
+  // not yet registered (+inf: none), and the newest lidar point seen (+inf: no
+  // more lidar data).
+  std::atomic<double> held_scan_end_s_{std::numeric_limits<double>::infinity()};
+  std::atomic<double> newest_point_s_{-std::numeric_limits<double>::infinity()};
 
   std::function<void()> wake_main_;
   std::atomic<bool> input_ended_{false};

@@ -6,17 +6,15 @@
 #include <cstddef>
 #include <cstdint>
 
+#include "core/point_weights.hpp"
 #include "core/types.hpp"
+#include "drivers/rs16/decoded_packet.hpp"
 
 namespace tumble::daemon {
 
-// The points of one lidar datagram, decoded on the io thread.
-struct PointBlock {
-  static constexpr std::size_t kMaxPoints = 384;  // one RS-16 MSOP packet: 12 blocks x 32 channels
-  double arrival_s = 0.0;                         // host arrival time of the datagram
-  std::uint16_t count = 0;
-  std::array<LidarPoint, kMaxPoints> points{};
-};
+// The points of one lidar datagram, decoded on the io thread, with the block
+// azimuths the registration thread's scan assembly splits on.
+using PointBlock = rs16::DecodedPacket;
 
 // One fused trajectory sample at IMU rate: the lidar pose T_WL(t) and its motion.
 // Trivially copyable, as the seqlock trajectory buffer requires.
@@ -34,7 +32,7 @@ struct TrajectoryRecord {
   bool attitude_from_device = false;  // orientation is the IMU's own estimate, not Madgwick's
 };
 
-enum class WeightModel : std::uint8_t { NM, TW, VTW, GVTW, SAW };
+using tumble::WeightModel;
 
 // One registered scan, as the registration thread reports it (to the fuser as
 // a correction, to LCM as tumble.registration_t, to the trajectory file).
@@ -47,7 +45,10 @@ struct RegistrationRecord {
   std::array<double, 3> velocity_m_s{};
   std::array<double, 36> covariance{};  // 6x6 row-major over (tx, ty, tz, rx, ry, rz)
   std::int32_t iterations = 0;
+  bool registered = false;       // false: the fuser's pose is reported and no correction is made
+  bool map_initialised = false;  // the scan that started the map
   bool converged = false;
+  double position_sigma_m = 0.0;  // for the fuser's velocity filter
   float inlier_ratio = 0.0f;
   float residual_m = 0.0f;
   float degeneracy = 0.0f;

@@ -11,6 +11,7 @@
 #include "daemon/lcm_publisher.hpp"
 #include "daemon/status_aggregator.hpp"
 #include "daemon/systemd_notify.hpp"
+#include "daemon/scan_log.hpp"
 #include "daemon/trajectory_file.hpp"
 
 namespace tumble::daemon {
@@ -32,7 +33,7 @@ const char* present(bool yes) { return yes ? "yes" : "none"; }
 }  // namespace
 
 RunOptions run_options(const CommandLine& command_line) {
-  return {command_line.replay, command_line.rate, command_line.trajectory_out};
+  return {command_line.replay, command_line.rate, command_line.trajectory_out, command_line.scan_log};
 }
 
 int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& lcm, ShutdownSignals& signals,
@@ -66,6 +67,11 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   LcmPublisher publisher(lcm, LcmChannels::with_prefix(config.lcm.channel_prefix), pipeline.publisher_inputs(),
                          stage_names, pipeline.output_wakeup());
   if (trajectory) publisher.add_observer(*trajectory);
+  std::optional<ScanLog> scan_log;
+  if (options.scan_log) {
+    scan_log.emplace(*options.scan_log, stage_names);
+    publisher.add_observer(*scan_log);
+  }
   StatusAggregator status(config.daemon.health, stage_names, pipeline.rings(), pipeline.counters(),
                           pipeline.scan_reports(), steady_now_ns());
   const auto publish_status = [&] {
@@ -134,6 +140,10 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   if (trajectory) {
     trajectory->commit();
     spdlog::info("trajectory written to {}", trajectory->path());
+  }
+  if (scan_log) {
+    scan_log->commit();
+    spdlog::info("scan log written to {}", scan_log->path());
   }
   spdlog::info("stopped");
   return exit_code;

@@ -22,6 +22,7 @@ struct RunOptions {
   std::optional<ReplayFiles> replay;
   ReplayRate rate;
   std::optional<std::string> trajectory_out;
+  std::optional<std::string> scan_log;
 };
 
 RunOptions run_options(const CommandLine& command_line);

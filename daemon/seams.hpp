@@ -102,8 +102,11 @@ class FuserStage {
   // One IMU sample, in time order. True with `out` filled when the sample
   // extends the trajectory; false while the fuser initialises (static average).
   virtual bool add_imu(const ImuSample& sample, TrajectoryRecord& out) = 0;
-  // A registered scan (its pose and velocity at t_s), for the velocity filter.
-  virtual void add_correction(const RegistrationRecord& registration) = 0;
+  // A registered scan (its pose at t_s), for the velocity filter and the
+  // re-anchoring. When that rewrites trajectory samples already returned by
+  // add_imu, republish is called with each of them again, in time order.
+  virtual void add_correction(const RegistrationRecord& registration,
+                              const std::function<void(const TrajectoryRecord&)>& republish) = 0;
 };
 
 // The registration thread's half: scan assembly, de-skew, weights, ICP, local map.
@@ -130,6 +133,8 @@ class RegistrationStage {
                                   tumble::scan_t* viewer_scan) = 0;
   // Drops the held scan (the daemon fell too far behind to de-skew it).
   virtual void discard_held_scan() = 0;
+  // Copies the stage's cumulative statistics (lidar_missing_packets from scan assembly).
+  virtual void report(PipelineCounters& counters) const = 0;
 };
 
 }  // namespace tumble::daemon

@@ -102,6 +102,11 @@ struct WindowRead {
 // Copies, in time order, the samples that bracket [t0_s, t1_s] into out. Each
 // sample is read consistently and published samples never change, so the
 // window is consistent as a whole. Never allocates, never blocks the writer.
+//
+// The fuser republishes the tail it rewrote after a lidar correction, so
+// publication order is not time order: a record supersedes every earlier-
+// published record at or after its time. Walking back from the newest, a
+// record is kept only when it is older than everything kept so far.
 inline WindowRead read_window(const TrajectoryBuffer& buffer, double t0_s, double t1_s,
                               std::span<TrajectoryRecord> out) {
   const std::uint64_t published = buffer.published();
@@ -110,20 +115,18 @@ inline WindowRead read_window(const TrajectoryBuffer& buffer, double t0_s, doubl
   TrajectoryRecord sample;
   if (!buffer.read(index, sample)) return {WindowStatus::Overwritten, 0};
   if (sample.t_s < t1_s) return {WindowStatus::NotYetReached, 0};
-  // Step back to the oldest sample still at or after t1.
-  TrajectoryRecord older;
-  while (index > 0) {
-    if (!buffer.read(index - 1, older)) return {WindowStatus::Overwritten, 0};
-    if (older.t_s < t1_s) break;
-    sample = older;
-    --index;
-  }
-  // Collect backwards down to the first sample at or before t0.
   std::size_t count = 0;
   for (;;) {
-    if (count == out.size()) return {WindowStatus::TooSmall, 0};
-    out[count++] = sample;
-    if (sample.t_s <= t0_s || index == 0) break;
+    if (count == 0 || sample.t_s < out[count - 1].t_s) {
+      if (count > 0 && sample.t_s >= t1_s) {
+        out[count - 1] = sample;  // only the oldest sample at or after t1 is needed
+      } else {
+        if (count == out.size()) return {WindowStatus::TooSmall, 0};
+        out[count++] = sample;
+      }
+      if (sample.t_s <= t0_s) break;
+    }
+    if (index == 0) break;
     --index;
     if (!buffer.read(index, sample)) return {WindowStatus::Overwritten, 0};
   }

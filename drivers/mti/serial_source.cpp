@@ -145,11 +145,11 @@ void SerialSource::read() {
 void SerialSource::handle_read(std::size_t n) {
   const std::int64_t arrival_ns = realtime_now_ns();
   const std::span<const std::uint8_t> bytes(read_buffer_.data(), n);
-  if (on_read_) on_read_(arrival_ns, bytes);
   samples_.clear();
   stream_.feed(bytes, static_cast<double>(arrival_ns) * 1e-9, samples_);
   if (!samples_.empty()) backoff_s_ = options_.reconnect_min_s;  // a working link: start back-off afresh
   for (const ImuSample& s : samples_) on_sample_(s);
+  if (on_read_) on_read_(arrival_ns, bytes);
   service_configurator();
 }
 

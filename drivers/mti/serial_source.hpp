@@ -33,7 +33,8 @@ struct SerialSourceOptions {
 class SerialSource {
  public:
   using SampleHandler = std::function<void(const ImuSample&)>;
-  // Every read as the port delivered it, with its arrival time (for recording).
+  // Every read as the port delivered it, with its arrival time (for recording),
+  // called after the samples decoded from it went to the SampleHandler.
   using ReadHandler = std::function<void(std::int64_t arrival_ns, std::span<const std::uint8_t> bytes)>;
 
   // Throws std::invalid_argument for options the configurator rejects.

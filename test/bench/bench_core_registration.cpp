@@ -6,7 +6,7 @@
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
+#include <ctime>
 #include <cstdlib>
 #include <new>
 #include <vector>
@@ -118,7 +118,9 @@ BENCHMARK(BM_VoxelDownsample5cm)->Unit(benchmark::kMillisecond);
 void BM_ReadingNormalsK15(benchmark::State& state) {
   PointCloud reading;
   VoxelDownsampler(0.05).apply(static_scan_cloud(), reading);
-  NormalEstimator estimator(NormalParams{.k = 15});
+  NormalParams params{.k = 15};
+  if (state.range(0) > 0) params.grid_cell_m = 0.01 * static_cast<double>(state.range(0));
+  NormalEstimator estimator(params);
   estimator.estimate(reading, Eigen::Vector3d::Zero());
   const std::size_t before = g_allocations.load();
   for (auto _ : state) {
@@ -129,7 +131,8 @@ void BM_ReadingNormalsK15(benchmark::State& state) {
   state.counters["allocs_per_call"] =
       static_cast<double>(g_allocations.load() - before) / static_cast<double>(state.iterations());
 }
-BENCHMARK(BM_ReadingNormalsK15)->Unit(benchmark::kMillisecond);
+// Argument: NormalParams::grid_cell_m in cm; 0: the default.
+BENCHMARK(BM_ReadingNormalsK15)->Unit(benchmark::kMillisecond)->ArgName("grid_cell_cm")->Arg(0)->Arg(25);
 
 // A map of three scans around the origin, and a reading 5 cm / 1 deg off.
 struct RegistrationSetup {
@@ -176,13 +179,19 @@ void BM_IcpAlign(benchmark::State& state) {
   }
   state.counters["reading_points"] = static_cast<double>(setup.reading.size());
   state.counters["iterations"] = result.iterations;
+  state.counters["searches_per_point"] =
+      static_cast<double>(result.neighbour_searches) / static_cast<double>(setup.reading.size());
   state.counters["allocs_per_call"] =
       static_cast<double>(g_allocations.load() - before) / static_cast<double>(state.iterations());
 }
 BENCHMARK(BM_IcpAlign)->Unit(benchmark::kMillisecond);
 
+// The stages' clock: this thread's CPU time, so that the figures are "on one
+// core" and do not grow when other processes share the machine.
 double seconds_now() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
 double median(std::vector<double> v) {
@@ -194,16 +203,23 @@ double median(std::vector<double> v) {
 // One RS-16 scan per iteration through Odometry::add_imu/add_scan, the sensor
 // circling the room; scan generation (ray casting) is not timed. Counters: the
 // median per-scan and per-stage times from the injected clock, and heap
-// allocations per scan after the first 30 scans (steady state).
+// allocations per scan after the first 30 scans (steady state). The argument
+// is OdometryParams::registration_voxel_size_m in cm; -1: the default.
 void BM_OdometryScanGVTW(benchmark::State& state) {
   const CircleMotion motion;
   OdometryParams params;
   params.weights.model = WeightModel::GVTW;
+  if (state.range(0) >= 0) params.registration_voxel_size_m = 0.01 * static_cast<double>(state.range(0));
   Odometry odometry(params, seconds_now);
-  std::vector<double> total, deskew, downsample, normals, weights, registration, fuser, map_update;
-  std::vector<double> iterations;
+  std::vector<double> total, deskew, downsample, normals, weights, registration, icp_matching, icp_solve, fuser,
+      map_update;
+  std::vector<double> iterations, registered_points, inserted_points;
   odometry.set_scan_callback([&](const ScanResult& r) {
     if (r.map_initialised) return;
+    icp_matching.push_back(r.timings.icp_matching_s);
+    icp_solve.push_back(r.timings.icp_solve_s);
+    registered_points.push_back(static_cast<double>(r.points_registered));
+    inserted_points.push_back(static_cast<double>(r.map_insert.inserted));
     total.push_back(r.timings.total_s);
     deskew.push_back(r.timings.deskew_s);
     downsample.push_back(r.timings.downsample_s);
@@ -223,6 +239,10 @@ void BM_OdometryScanGVTW(benchmark::State& state) {
   fuser.reserve(1 << 16);
   map_update.reserve(1 << 16);
   iterations.reserve(1 << 16);
+  icp_matching.reserve(1 << 16);
+  icp_solve.reserve(1 << 16);
+  registered_points.reserve(1 << 16);
+  inserted_points.reserve(1 << 16);
 
   int imu_index = 0;
   double scan_start = 0;
@@ -258,6 +278,10 @@ void BM_OdometryScanGVTW(benchmark::State& state) {
   state.counters["median_normals_ms"] = ms(normals);
   state.counters["median_weights_ms"] = ms(weights);
   state.counters["median_icp_ms"] = ms(registration);
+  state.counters["median_icp_match_ms"] = ms(icp_matching);
+  state.counters["median_icp_solve_ms"] = ms(icp_solve);
+  state.counters["median_registered_points"] = median(registered_points);
+  state.counters["median_inserted_points"] = median(inserted_points);
   state.counters["median_fuser_ms"] = ms(fuser);
   state.counters["median_map_ms"] = ms(map_update);
   state.counters["median_icp_iterations"] = median(iterations);
@@ -265,7 +289,12 @@ void BM_OdometryScanGVTW(benchmark::State& state) {
       steady_scans ? static_cast<double>(steady_allocations) / static_cast<double>(steady_scans) : -1.0;
   state.counters["map_points"] = static_cast<double>(odometry.map().size());
 }
-BENCHMARK(BM_OdometryScanGVTW)->Unit(benchmark::kMillisecond)->Iterations(150);
+BENCHMARK(BM_OdometryScanGVTW)
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(150)
+    ->ArgName("registration_voxel_cm")
+    ->Arg(-1)  // the default
+    ->Arg(0);  // every down-sampled point, as the paper
 
 }  // namespace
 }  // namespace tumble

@@ -128,6 +128,36 @@ TEST(Deskew, ScanIsDeskewedToItsFirstPointOrOnlyConvertedWhenOff) {
   for (std::size_t i = 0; i < out.size(); ++i) EXPECT_LT((out[i] - to_first * skewed.world[i]).norm(), 1e-4);
 }
 
+TEST(Deskew, PerPointInterpolationEqualsThePoseAtEveryTime) {
+  // The per-point path (segment prepared in the reference frame, series
+  // sines) against pose_at: 10 ms segments (0.11 rad, the series), 150 ms
+  // segments (1.7 rad, std::sin), quaternion signs alternating (slerp takes
+  // the short way), and times beyond both ends (extrapolation).
+  const Motion motion;
+  for (const double dt : {0.01, 0.15}) {
+    Trajectory trajectory(1024, SpeedUncertaintyParams{});
+    int flip = 1;
+    for (double t = 0.0; t <= 0.6 + 1e-12; t += dt) {
+      TrajectorySample s;
+      s.t_s = t;
+      const Eigen::Isometry3d T = motion.pose(t);
+      s.q_wl = Eigen::Quaterniond(T.rotation());
+      s.q_wl.coeffs() *= flip;
+      flip = -flip;
+      s.p_w = T.translation();
+      s.v_w = motion.v_w;
+      s.omega_l = motion.omega_l;
+      trajectory.push_back(s);
+    }
+    const double t_ref = 0.123;
+    RelativePoseInterpolator fast(trajectory, t_ref), reference(trajectory, t_ref);
+    const Eigen::Vector3d p(12.0, -7.0, 3.0);
+    for (double t = -0.05; t < 0.7; t += 0.0007) {
+      EXPECT_LT((fast.point_to_reference(t, p) - reference.to_reference(t) * p).norm(), 1e-9) << "dt " << dt << " t " << t;
+    }
+  }
+}
+
 TEST(Deskew, RejectsMismatchedSizes) {
   const Motion motion;
   const Trajectory trajectory = sampled(motion, 0.0, 0.2, 0.01);

@@ -121,6 +121,33 @@ TEST(Icp, RegistersALidarScanToASampledMap) {
   EXPECT_LT(std::sqrt(r.covariance.diagonal().head<3>().maxCoeff()), 0.01);
 }
 
+TEST(Icp, ReusingNeighboursGivesTheSameMatchesAsSearchingEveryIteration) {
+  RoomFixture f(false);
+  IcpParams fresh_params;
+  fresh_params.reuse_neighbours = false;
+  Icp reuse, fresh(fresh_params);
+  const IcpResult a = reuse.align(f.reading, f.map, offset_guess(f.truth));
+  const IcpResult b = fresh.align(f.reading, f.map, offset_guess(f.truth));
+  EXPECT_EQ(a.iterations, b.iterations);
+  EXPECT_EQ(a.matches_considered, b.matches_considered);
+  EXPECT_EQ(a.matches_kept, b.matches_kept);
+  // Same matches; the sums only differ in rounding.
+  EXPECT_LT((a.T_wl.translation() - b.T_wl.translation()).norm(), 1e-9);
+  EXPECT_LT(test::rotation_error_rad(a.T_wl, b.T_wl), 1e-9);
+  EXPECT_EQ(b.neighbour_searches, f.reading.size() * static_cast<std::size_t>(b.iterations));
+  EXPECT_LT(a.neighbour_searches, b.neighbour_searches);
+}
+
+TEST(Icp, ClockSplitsTheTimeBetweenMatchingAndSolving) {
+  RoomFixture f(true);
+  double fake_now = 0;
+  Icp icp(IcpParams{}, [&] { return fake_now += 1.0; });  // every reading: one more second
+  const IcpResult r = icp.align(f.reading, f.map, offset_guess(f.truth));
+  ASSERT_TRUE(r.converged);
+  EXPECT_DOUBLE_EQ(r.matching_s, r.iterations);
+  EXPECT_DOUBLE_EQ(r.solve_s, r.iterations);
+}
+
 TEST(Icp, ZeroWeightOutliersAreIgnoredAndWeightedOnesPullTheSolution) {
   RoomFixture f(true);
   // A ghost copy of the reading shifted by 15 cm: a second, wrong surface.

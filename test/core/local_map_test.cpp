@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -100,11 +101,11 @@ TEST(LocalMap, KnnMatchesBruteForce) {
   std::vector<Eigen::Vector3d> pts(test::full_or_coarse(3000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
   ASSERT_EQ(map.insert(cloud_of(pts), Eigen::Isometry3d::Identity()).inserted, pts.size());
-  std::vector<Neighbour> out(8);
+  std::vector<Neighbour> out(40);
   for (int q = 0; q < test::full_or_coarse(300, 60); ++q) {
     const Eigen::Vector3d query(u(rng) * 1.5, u(rng) * 1.5, u(rng) * 1.5);
-    for (const std::size_t k : {std::size_t{1}, std::size_t{8}}) {
-      const double radius = 0.25;
+    for (const std::size_t k : {std::size_t{1}, std::size_t{8}, std::size_t{40}}) {  // 40: the heap
+      const double radius = k == 40 ? 0.5 : 0.25;
       const std::size_t found = map.knn(query, radius, std::span<Neighbour>(out.data(), k));
       std::vector<double> brute;
       for (const auto& p : pts)
@@ -117,6 +118,31 @@ TEST(LocalMap, KnnMatchesBruteForce) {
       }
     }
   }
+}
+
+TEST(LocalMap, InsertCandidatesAreThePointsWithNoMapPointWithinTheMinimumDistance) {
+  LocalMap map(LocalMapParams{.min_point_distance_m = 0.05});
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<double> u(-1, 1);
+  std::vector<Eigen::Vector3d> mapped(500), scan(2000);
+  for (auto& p : mapped) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  for (auto& p : scan) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
+  map.insert(cloud_of(mapped), Eigen::Isometry3d::Identity());
+  const Eigen::Isometry3d T_wl = test::make_pose(Eigen::Vector3d(0.1, -0.2, 0.05), 0.1, 0.0, 0.3);
+  std::vector<std::uint32_t> candidates;
+  const std::size_t count = map.find_insert_candidates(cloud_of(scan).points, T_wl, candidates);
+  ASSERT_EQ(count, candidates.size());
+  std::vector<std::uint32_t> expected;
+  std::vector<Eigen::Vector3d> in_map;
+  map.for_each_point([&](const MapPoint& p) { in_map.push_back(p.p_w); });
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const Eigen::Vector3d p_w = T_wl * scan[i];
+    const bool covered = std::any_of(in_map.begin(), in_map.end(), [&](const Eigen::Vector3d& q) { return (q - p_w).norm() < 0.05; });
+    if (!covered) expected.push_back(static_cast<std::uint32_t>(i));
+  }
+  EXPECT_GT(expected.size(), 100u);
+  EXPECT_LT(expected.size(), scan.size());
+  EXPECT_EQ(candidates, expected);
 }
 
 TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {

@@ -36,8 +36,25 @@ TEST(Madgwick, ConvergesToAStaticTilt) {
   for (int i = 0; i < 3000; ++i) {
     EXPECT_TRUE(filter.update(Eigen::Vector3d::Zero(), specific_force_at_rest(truth), 0.01));
   }
-  // Normalised-gradient steps of β·dt chatter at the ~2β·dt = 0.002 rad level.
-  EXPECT_LT(tilt_error_rad(filter.orientation(), truth), 5e-3);
+  EXPECT_LT(tilt_error_rad(filter.orientation(), truth), 1e-6);
+}
+
+TEST(Madgwick, SettlesWithoutChatteringOnceTheTiltErrorIsBelowOneStep) {
+  // 0.3 mrad off, less than one step: an uncapped step (β·dt = 1e-3 of
+  // quaternion, a 2 mrad turn at 100 Hz) overshoots to the other side and
+  // keeps turning the attitude by ~2 mrad per sample.
+  const Eigen::Quaterniond truth = rpy(0.2, 0.1, 0.0);
+  const Eigen::Quaterniond start = truth * Eigen::Quaterniond(Eigen::AngleAxisd(3e-4, Eigen::Vector3d::UnitX()));
+  MadgwickFilter filter(MadgwickParams{}, start, kG);
+  for (int i = 0; i < 20; ++i) {
+    const Eigen::Quaterniond before = filter.orientation();
+    filter.update(Eigen::Vector3d::Zero(), specific_force_at_rest(truth), 0.01);
+    EXPECT_LT(tilt_error_rad(filter.orientation(), truth), 3e-4 + 1e-12) << "step " << i;
+    if (i > 0) {
+      EXPECT_LT(filter.orientation().angularDistance(before), 1e-5) << "step " << i;
+    }
+  }
+  EXPECT_LT(tilt_error_rad(filter.orientation(), truth), 1e-9);
 }
 
 TEST(Madgwick, GyroPropagationIsExactForAConstantRate) {

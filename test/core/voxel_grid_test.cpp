@@ -72,6 +72,24 @@ TEST(VoxelDownsampler, DeterministicAndReusable) {
   }
 }
 
+TEST(VoxelDownsampler, SelectGivesTheIndicesApplyKeeps) {
+  std::mt19937 rng(4);
+  std::uniform_real_distribution<double> u(-2, 2);
+  PointCloud in;
+  in.resize(3000);
+  for (std::size_t i = 0; i < in.size(); ++i) {
+    in.points[i] = Eigen::Vector3d(u(rng), u(rng), u(rng));
+    in.times_s[i] = static_cast<double>(i);
+  }
+  VoxelDownsampler grid(0.3);
+  PointCloud out;
+  grid.apply(in, out);
+  std::vector<std::uint32_t> indices;
+  grid.select(in.points, indices);
+  ASSERT_EQ(indices.size(), out.size());
+  for (std::size_t j = 0; j < indices.size(); ++j) EXPECT_EQ(in.points[indices[j]], out.points[j]);
+}
+
 TEST(VoxelDownsampler, RejectsNonPositiveSize) {
   EXPECT_THROW(VoxelDownsampler(0.0), std::invalid_argument);
   EXPECT_THROW(VoxelDownsampler(-1.0), std::invalid_argument);

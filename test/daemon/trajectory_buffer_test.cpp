@@ -54,6 +54,30 @@ TEST(ReadWindow, BracketsTheRequestedInterval) {
   for (std::size_t i = 1; i < w.count; ++i) EXPECT_LT(out[i - 1].t_s, out[i].t_s);
 }
 
+TEST(ReadWindow, ARepublishedTailSupersedesWhatItRewrote) {
+  TrajectoryBuffer buffer(64);
+  for (int i = 0; i <= 10; ++i) buffer.publish(sample_at(0.1 * i));
+  // A correction at 0.75 rewrote everything after it: a sample at 0.75
+  // itself, then 0.8 .. 1.0 again, then new samples.
+  TrajectoryRecord corrected = sample_at(0.75);
+  corrected.p_w_m[1] = -1.0;
+  buffer.publish(corrected);
+  for (int i = 8; i <= 12; ++i) {
+    TrajectoryRecord r = sample_at(0.1 * i);
+    r.p_w_m[1] = -1.0;
+    buffer.publish(r);
+  }
+  std::vector<TrajectoryRecord> out(64);
+  const WindowRead w = read_window(buffer, 0.55, 1.05, out);
+  ASSERT_EQ(w.status, WindowStatus::Ok);
+  const std::vector<double> expected_t = {0.5, 0.6, 0.7, 0.75, 0.8, 0.9, 1.0, 1.1};
+  ASSERT_EQ(w.count, expected_t.size());
+  for (std::size_t i = 0; i < w.count; ++i) {
+    EXPECT_DOUBLE_EQ(out[i].t_s, expected_t[i]);
+    EXPECT_EQ(out[i].p_w_m[1] == -1.0, out[i].t_s >= 0.75) << "sample " << i;
+  }
+}
+
 TEST(ReadWindow, ExactSampleTimesNeedNoExtraSamples) {
   TrajectoryBuffer buffer(64);
   for (int i = 0; i < 10; ++i) buffer.publish(sample_at(i));

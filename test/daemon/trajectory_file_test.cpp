@@ -28,7 +28,12 @@ TEST_F(TrajectoryFileTest, AppearsOnlyWhenCommitted) {
     r.t_s = 1700000000.5;
     r.position_m = {1.0, -2.0, 0.25};
     r.orientation_wxyz = {0.5, 0.5, -0.5, 0.5};
+    r.registered = true;
     file.on_registration(r);
+    RegistrationRecord unplaced = r;  // the registration failed: no pose to report
+    unplaced.registered = false;
+    unplaced.t_s += 0.1;
+    file.on_registration(unplaced);
     EXPECT_FALSE(fs::exists(path_));
     EXPECT_TRUE(fs::exists(path_.string() + ".partial"));
     file.commit();

@@ -127,8 +127,10 @@ class FakeLidarDecoder : public LidarDecoder {
     std::uint32_t ids[2];
     std::memcpy(&first_point_s, d.payload.data(), 8);
     std::memcpy(ids, d.payload.data() + 8, 8);
-    block.arrival_s = d.arrival_s;
-    block.count = kPointsPerPacket;
+    block.t_s = first_point_s;
+    block.block_count = 1;
+    block.block_begin[0] = 0;
+    block.block_begin[1] = kPointsPerPacket;
     for (int i = 0; i < kPointsPerPacket; ++i) {
       LidarPoint& p = block.points[static_cast<std::size_t>(i)];
       p.t_s = first_point_s + i * (kScanS / kPacketsPerScan / kPointsPerPacket);
@@ -171,7 +173,9 @@ class FakeFuser : public FuserStage {
     out.lidar_corrected = corrections_ > 0;
     return true;
   }
-  void add_correction(const RegistrationRecord&) override { ++corrections_; }
+  void add_correction(const RegistrationRecord&, const std::function<void(const TrajectoryRecord&)>&) override {
+    ++corrections_;
+  }
   int corrections() const { return corrections_; }
 
  private:
@@ -194,7 +198,8 @@ class FakeRegistration : public RegistrationStage {
       current_.clear();
     }
     current_index_ = scan;
-    current_.insert(current_.end(), block.points.begin(), block.points.begin() + block.count);
+    const auto points = block.all_points();
+    current_.insert(current_.end(), points.begin(), points.end());
     return !held_.empty();
   }
   TimeSpan held_scan_span() const override { return {held_.front().t_s, held_.back().t_s}; }
@@ -208,6 +213,7 @@ class FakeRegistration : public RegistrationStage {
     out.position_m = {static_cast<double>(trajectory.size()), trajectory.empty() ? -1.0 : trajectory.front().t_s,
                       trajectory.empty() ? -1.0 : trajectory.back().t_s};
     out.iterations = static_cast<std::int32_t>(held_.size());
+    out.registered = true;
     out.converged = true;
     out.inlier_ratio = 0.6f;
     out.degeneracy = 0.5f;
@@ -225,6 +231,7 @@ class FakeRegistration : public RegistrationStage {
     held_.clear();
   }
   void discard_held_scan() override { held_.clear(); }
+  void report(PipelineCounters&) const override {}
 
  private:
   std::vector<LidarPoint> current_, held_;

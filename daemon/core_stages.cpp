@@ -1,0 +1,228 @@
+#include "daemon/core_stages.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "tumble/scan_t.hpp"
+
+namespace tumble::daemon {
+
+namespace {
+
+double steady_now_s() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+std::uint8_t to_bits(const std::array<bool, 3>& axes) {
+  return static_cast<std::uint8_t>((axes[0] ? 1 : 0) | (axes[1] ? 2 : 0) | (axes[2] ? 4 : 0));
+}
+
+std::array<bool, 3> from_bits(std::uint8_t bits) { return {(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0}; }
+
+Eigen::Vector3d velocity_at(std::span<const TrajectoryRecord> trajectory, double t_s) {
+  const auto v = [](const TrajectoryRecord& r) { return Eigen::Vector3d(r.v_w_m_s[0], r.v_w_m_s[1], r.v_w_m_s[2]); };
+  if (trajectory.empty()) return Eigen::Vector3d::Zero();
+  if (t_s <= trajectory.front().t_s) return v(trajectory.front());
+  if (t_s >= trajectory.back().t_s) return v(trajectory.back());
+  const auto after = std::upper_bound(trajectory.begin(), trajectory.end(), t_s,
+                                      [](double t, const TrajectoryRecord& r) { return t < r.t_s; });
+  const TrajectoryRecord& b = *after;
+  const TrajectoryRecord& a = *(after - 1);
+  const double f = (t_s - a.t_s) / (b.t_s - a.t_s);
+  return (1 - f) * v(a) + f * v(b);
+}
+
+}  // namespace
+
+TrajectoryRecord to_record(const TrajectorySample& s) {
+  TrajectoryRecord r;
+  r.t_s = s.t_s;
+  r.q_wl_wxyz = {s.q_wl.w(), s.q_wl.x(), s.q_wl.y(), s.q_wl.z()};
+  r.p_w_m = {s.p_w.x(), s.p_w.y(), s.p_w.z()};
+  r.v_w_m_s = {s.v_w.x(), s.v_w.y(), s.v_w.z()};
+  r.omega_l_rad_s = {s.omega_l.x(), s.omega_l.y(), s.omega_l.z()};
+  r.gyro_saturated_axes = to_bits(s.gyro_saturated);
+  r.accel_saturated_axes = to_bits(s.accel_saturated);
+  return r;
+}
+
+TrajectorySample to_sample(const TrajectoryRecord& r) {
+  TrajectorySample s;
+  s.t_s = r.t_s;
+  s.q_wl = Eigen::Quaterniond(r.q_wl_wxyz[0], r.q_wl_wxyz[1], r.q_wl_wxyz[2], r.q_wl_wxyz[3]);
+  s.p_w = Eigen::Vector3d(r.p_w_m[0], r.p_w_m[1], r.p_w_m[2]);
+  s.v_w = Eigen::Vector3d(r.v_w_m_s[0], r.v_w_m_s[1], r.v_w_m_s[2]);
+  s.omega_l = Eigen::Vector3d(r.omega_l_rad_s[0], r.omega_l_rad_s[1], r.omega_l_rad_s[2]);
+  s.gyro_saturated = from_bits(r.gyro_saturated_axes);
+  s.accel_saturated = from_bits(r.accel_saturated_axes);
+  for (std::size_t k = 0; k < 3; ++k) s.saturated[k] = s.gyro_saturated[k] || s.accel_saturated[k];
+  return s;
+}
+
+// ---- fuser ------------------------------------------------------------------------
+
+CoreFuserStage::CoreFuserStage(const OdometryParams& params) : params_(params), fuser_(params.fuser) {}
+
+TrajectoryRecord CoreFuserStage::record_of(const TrajectorySample& sample) const {
+  TrajectoryRecord r = to_record(sample);
+  const Eigen::Vector3d velocity_var = fuser_.velocity_variance();
+  r.velocity_var_m2_s2 = {velocity_var.x(), velocity_var.y(), velocity_var.z()};
+  const double position_var = params_.min_position_sigma_m * params_.min_position_sigma_m;
+  r.position_var_m2 = {position_var, position_var, position_var};
+  r.lidar_corrected = fuser_.stats().velocity_updates > 0;
+  r.attitude_from_device = params_.fuser.attitude_from_device;
+  return r;
+}
+
+bool CoreFuserStage::add_imu(const ImuSample& sample, TrajectoryRecord& out) {
+  fuser_.add_imu(sample);
+  if (!fuser_.initialized() || fuser_.trajectory().empty()) return false;
+  const TrajectorySample& newest = fuser_.trajectory().back();
+  if (newest.t_s <= newest_published_s_) return false;  // the sample was dropped (out of order)
+  newest_published_s_ = newest.t_s;
+  out = record_of(newest);
+  return true;
+}
+
+void CoreFuserStage::add_correction(const RegistrationRecord& registration,
+                                    const std::function<void(const TrajectoryRecord&)>& republish) {
+  if (!registration.registered || !fuser_.initialized()) return;
+  const auto& q = registration.orientation_wxyz;
+  Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
+  T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  T_wl.translation() =
+      Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
+  const CorrectionResult result =
+      fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m);
+  if (std::isnan(result.rewritten_after_s)) return;
+  // The registration thread reads trajectory windows from what was published:
+  // publish the rewritten tail again (it supersedes the older records).
+  const Trajectory& trajectory = fuser_.trajectory();
+  std::size_t first = trajectory.size();
+  while (first > 0 && trajectory[first - 1].t_s > result.rewritten_after_s) --first;
+  for (std::size_t i = first; i < trajectory.size(); ++i) republish(record_of(trajectory[i]));
+}
+
+// ---- registration -----------------------------------------------------------------
+
+CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans)
+    : params_(params),
+      assembler_(scans,
+                 [this](Scan& scan, const rs16::ScanReport&) {
+                   if (scan.points.empty()) return;
+                   held_.index = scan.index;
+                   held_.missing_packets = scan.missing_packets;
+                   std::swap(held_.points, scan.points);  // the assembler reuses our previous vector
+                   holding_ = true;
+                 }),
+      registration_(params, steady_now_s),
+      trajectory_(params.fuser.trajectory_capacity, params.fuser.speed_uncertainty) {}
+
+std::vector<std::string> CoreRegistrationStage::stage_names() const {
+  return {"deskew", "downsample", "normals", "weights", "icp_matching", "icp_solve", "map_update"};
+}
+
+bool CoreRegistrationStage::add_points(const PointBlock& block) {
+  assembler_.add(block, assembly_stats_);
+  return holding_;
+}
+
+RegistrationStage::TimeSpan CoreRegistrationStage::held_scan_span() const {
+  return {held_.points.front().t_s, held_.points.back().t_s};
+}
+
+void CoreRegistrationStage::discard_held_scan() { holding_ = false; }
+
+void CoreRegistrationStage::report(PipelineCounters& counters) const {
+  counters.lidar_missing_packets.store(static_cast<std::int64_t>(assembly_stats_.missing_packets),
+                                       std::memory_order_relaxed);
+}
+
+void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,
+                                               tumble::scan_t* viewer_scan) {
+  holding_ = false;
+  out = RegistrationRecord{};
+  out.t_s = held_.points.front().t_s;
+  out.scan_index = static_cast<std::int64_t>(held_.index);
+  out.model = params_.weights.model;
+  out.deskew = params_.deskew;
+  out.points_in = static_cast<std::int32_t>(held_.points.size());
+  if (trajectory.empty()) return;  // the fuser has not initialised: nothing to register with
+
+  trajectory_.clear();
+  for (const TrajectoryRecord& r : trajectory) trajectory_.push_back(to_sample(r));
+  const Eigen::Isometry3d predicted = trajectory_.pose_at(out.t_s);
+  switch (registration_.process(held_, trajectory_, result_)) {
+    case ScanOutcome::Registered:
+      break;
+    case ScanOutcome::TooSmall:
+    case ScanOutcome::OutOfOrder:
+      result_ = ScanResult{};
+      result_.T_wl = predicted;
+      result_.t_scan_start_s = out.t_s;
+      result_.points_in = held_.points.size();
+      fill_record(result_, trajectory, out);
+      return;
+  }
+  fill_record(result_, trajectory, out);
+  if (viewer_scan != nullptr) fill_viewer_scan(result_, *viewer_scan);
+}
+
+void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory,
+                                        RegistrationRecord& out) {
+  const Eigen::Vector3d p = result.T_wl.translation();
+  const Eigen::Quaterniond q(result.T_wl.rotation());
+  out.position_m = {p.x(), p.y(), p.z()};
+  out.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
+  const Eigen::Vector3d v = velocity_at(trajectory, result.t_scan_start_s);
+  out.velocity_m_s = {v.x(), v.y(), v.z()};
+  for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = result.covariance(i / 6, i % 6);
+  out.iterations = result.iterations;
+  out.registered = result.registered;
+  out.map_initialised = result.map_initialised;
+  out.converged = result.converged;
+  out.position_sigma_m = result.position_sigma_m;
+  out.inlier_ratio = static_cast<float>(result.inlier_ratio);
+  out.residual_m = static_cast<float>(result.residual_rms_m);
+  out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);
+  out.points_used = static_cast<std::int32_t>(result.points_registered);
+
+  const PointCloud& reading = registration_.reading();
+  if (result.points_downsampled > 0 && !reading.sigma_s_m.empty()) {
+    sigma_scratch_.assign(reading.sigma_s_m.begin(), reading.sigma_s_m.end());
+    const auto middle = sigma_scratch_.begin() + static_cast<std::ptrdiff_t>(sigma_scratch_.size() / 2);
+    std::nth_element(sigma_scratch_.begin(), middle, sigma_scratch_.end());
+    out.sigma_s_median_m = *middle;
+    out.sigma_s_max_m = *std::max_element(sigma_scratch_.begin(), sigma_scratch_.end());
+  }
+  const StageTimings& t = result.timings;
+  const double stages_s[] = {t.deskew_s,         t.downsample_s, t.normals_s,   t.weights_s,
+                             t.icp_matching_s, t.icp_solve_s,  t.map_update_s};
+  out.num_stages = static_cast<std::uint8_t>(std::size(stages_s));
+  for (std::size_t i = 0; i < std::size(stages_s); ++i) out.stage_ms[i] = static_cast<float>(stages_s[i] * 1e3);
+}
+
+void CoreRegistrationStage::fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const {
+  const PointCloud& reading = registration_.reading();
+  const auto n = static_cast<std::int32_t>(reading.size());
+  scan.utime = std::llround(result.t_scan_start_s * 1e6);
+  scan.scan_index = static_cast<std::int64_t>(result.scan_index);
+  scan.num_points = n;
+  scan.x_m.resize(static_cast<std::size_t>(n));
+  scan.y_m.resize(static_cast<std::size_t>(n));
+  scan.z_m.resize(static_cast<std::size_t>(n));
+  scan.sigma_s_m.resize(static_cast<std::size_t>(n));
+  scan.weight.resize(static_cast<std::size_t>(n));
+  const double largest = reading.weights.empty() ? 1.0 : *std::max_element(reading.weights.begin(), reading.weights.end());
+  for (std::size_t i = 0; i < reading.size(); ++i) {
+    const Eigen::Vector3d w = result.T_wl * reading.points[i];
+    scan.x_m[i] = static_cast<float>(w.x());
+    scan.y_m[i] = static_cast<float>(w.y());
+    scan.z_m[i] = static_cast<float>(w.z());
+    scan.sigma_s_m[i] = static_cast<float>(reading.sigma_s_m[i]);
+    scan.weight[i] = largest > 0 ? static_cast<float>(reading.weights[i] / largest) : 0.0f;
+  }
+}
+
+}  // namespace tumble::daemon

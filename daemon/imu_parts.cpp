@@ -1,0 +1,60 @@
+#include "daemon/imu_parts.hpp"
+
+#include "daemon/driver_params.hpp"
+
+namespace tumble::daemon {
+
+void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, PipelineCounters& counters) {
+  constexpr auto relaxed = std::memory_order_relaxed;
+  counters.imu_frames.store(static_cast<std::int64_t>(stats.frames.frames), relaxed);
+  counters.imu_bad_frames.store(static_cast<std::int64_t>(stats.frames.bad_frames()), relaxed);
+  counters.imu_gaps.store(static_cast<std::int64_t>(stats.sample_time_gaps + stats.packet_counter_gaps), relaxed);
+  if (clock.ready()) {
+    counters.imu_clock.offset_s.store(clock.offset_s(), relaxed);
+    counters.imu_clock.drift_ppm.store(clock.drift() * 1e6, relaxed);
+    counters.imu_clock.jitter_s.store(clock.jitter_s(), relaxed);
+  }
+}
+
+MtiByteDecoder::MtiByteDecoder(const ImuConfig& config) : stream_(imu_stream_options(config)) {}
+
+void MtiByteDecoder::decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) {
+  samples_.clear();
+  stream_.feed(bytes.bytes, bytes.arrival_s, samples_);
+  for (const ImuSample& sample : samples_) emit(sample);
+}
+
+void MtiByteDecoder::report(PipelineCounters& counters) const {
+  report_imu(stream_.stats(), stream_.time_mapper(), counters);
+}
+
+LiveImuSource::LiveImuSource(boost::asio::io_context& io, const ImuConfig& config, std::shared_ptr<SerialReads> reads)
+    : reads_(std::move(reads)) {
+  reads_->port = std::make_unique<mti::SerialSource>(
+      io, serial_source_options(config), [this](const ImuSample& sample) { reads_->samples.push_back(sample); });
+  // The source reports a read after decoding it: the samples above are its own.
+  reads_->port->set_read_handler([this](std::int64_t arrival_ns, std::span<const std::uint8_t> bytes) {
+    if (on_bytes_) on_bytes_(ImuBytes{static_cast<double>(arrival_ns) * 1e-9, bytes});
+    reads_->samples.clear();
+  });
+}
+
+void LiveImuSource::start(std::function<void(const ImuBytes&)> on_bytes, std::function<void()>) {
+  on_bytes_ = std::move(on_bytes);  // a serial port never ends: the source reconnects
+  reads_->port->start();
+}
+
+void LiveImuSource::stop() {
+  reads_->port->stop();
+  on_bytes_ = nullptr;
+}
+
+void SerialSampleDecoder::decode(const ImuBytes&, const std::function<void(const ImuSample&)>& emit) {
+  for (const ImuSample& sample : reads_->samples) emit(sample);
+}
+
+void SerialSampleDecoder::report(PipelineCounters& counters) const {
+  report_imu(reads_->port->stats(), reads_->port->time_mapper(), counters);
+}
+
+}  // namespace tumble::daemon

@@ -1,0 +1,60 @@
+// The MTi behind the daemon's IMU seams. Replayed serial bytes are decoded by
+// MtiByteDecoder. Live, the serial source configures the device and must see
+// the frames itself (acks, errors, the measurement switch), so it decodes
+// them; LiveImuSource hands the pipeline each read (for the recorder) and
+// SerialSampleDecoder the samples the source decoded from it.
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "daemon/config.hpp"
+#include "daemon/seams.hpp"
+#include "drivers/mti/mti_stream.hpp"
+#include "drivers/mti/serial_source.hpp"
+
+namespace tumble::daemon {
+
+void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, PipelineCounters& counters);
+
+class MtiByteDecoder : public ImuDecoder {
+ public:
+  explicit MtiByteDecoder(const ImuConfig& config);
+  void decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) override;
+  void report(PipelineCounters& counters) const override;
+
+ private:
+  mti::MtiStream stream_;
+  std::vector<ImuSample> samples_;
+};
+
+// What the live source and its decoder share (both on the io thread).
+struct SerialReads {
+  std::unique_ptr<mti::SerialSource> port;
+  std::vector<ImuSample> samples;  // decoded from the read being delivered
+};
+
+class LiveImuSource : public ImuByteSource {
+ public:
+  LiveImuSource(boost::asio::io_context& io, const ImuConfig& config, std::shared_ptr<SerialReads> reads);
+  void start(std::function<void(const ImuBytes&)> on_bytes, std::function<void()> on_end) override;
+  void stop() override;
+
+ private:
+  std::shared_ptr<SerialReads> reads_;
+  std::function<void(const ImuBytes&)> on_bytes_;
+};
+
+class SerialSampleDecoder : public ImuDecoder {
+ public:
+  explicit SerialSampleDecoder(std::shared_ptr<SerialReads> reads) : reads_(std::move(reads)) {}
+  void decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) override;
+  void report(PipelineCounters& counters) const override;
+
+ private:
+  std::shared_ptr<SerialReads> reads_;
+};
+
+}  // namespace tumble::daemon

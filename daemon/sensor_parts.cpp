@@ -1,0 +1,36 @@
+#include "daemon/sensor_parts.hpp"
+
+#include <memory>
+
+#include "daemon/core_stages.hpp"
+#include "daemon/driver_params.hpp"
+#include "daemon/imu_parts.hpp"
+#include "daemon/lidar_parts.hpp"
+#include "daemon/pcap_recorder.hpp"
+#include "daemon/replay.hpp"
+
+namespace tumble::daemon {
+
+PipelineParts make_sensor_parts(boost::asio::io_context& io, const DaemonConfig& config, const RunOptions& options) {
+  const OdometryParams params = odometry_params(config);
+  PipelineParts parts;
+  parts.fuser = std::make_unique<CoreFuserStage>(params);
+  parts.registration = std::make_unique<CoreRegistrationStage>(params, scan_assembler_config(config.lidar));
+  parts.lidar_decoder = std::make_unique<Rs16LidarDecoder>(config.lidar);
+  if (options.replay) {
+    const auto replay = std::make_shared<Replay>(io, *options.replay, config.lidar, options.rate);
+    parts.lidar_source = replay->lidar_source();
+    parts.imu_source = replay->imu_source();
+    parts.imu_decoder = std::make_unique<MtiByteDecoder>(config.imu);
+    return parts;
+  }
+  auto reads = std::make_shared<SerialReads>();
+  parts.lidar_source = std::make_unique<LiveLidarSource>(io, config.lidar);
+  parts.imu_source = std::make_unique<LiveImuSource>(io, config.imu, reads);
+  parts.imu_decoder = std::make_unique<SerialSampleDecoder>(reads);
+  if (!config.record.dir.empty())
+    parts.recorder = std::make_unique<PcapRecorder>(config.record.dir, lidar_source_config(config.lidar));
+  return parts;
+}
+
+}  // namespace tumble::daemon

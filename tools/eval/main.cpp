@@ -1,0 +1,207 @@
+// tumble-eval: runs tumbled over a tumble-sim bench and reports the paper's
+// figures (matrix) or what the pipeline costs (speed). See README.md.
+// Exit codes: 0 every job evaluated, 1 some job failed or the plot could not
+// be drawn (all else is still reported), 2 usage error or unreadable bench.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cstdio>
+#include <exception>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "tools/eval/bench_index.hpp"
+#include "tools/eval/box_plot.hpp"
+#include "tools/eval/job_runner.hpp"
+#include "tools/eval/matrix_report.hpp"
+#include "tools/eval/speed_report.hpp"
+
+namespace {
+
+using namespace tumble::eval;
+
+constexpr int kExitSomeFailed = 1;
+constexpr int kExitUsage = 2;
+
+struct CommonOptions {
+  std::string bench_dir;
+  std::string out_dir;
+  std::size_t jobs = 2;
+  std::string tumbled;
+  std::string config;
+  std::string runs_glob = "*";
+  std::vector<std::string> kinds;
+  std::vector<std::string> models;
+  std::string deskew = "both";
+  double timeout_s = 600.0;
+};
+
+void add_common_options(CLI::App& command, CommonOptions& options) {
+  command.add_option("bench_dir", options.bench_dir, "tumble-sim bench folder (with bench.csv)")->required();
+  command.add_option("--out", options.out_dir, "output folder (default BENCH_DIR/eval)");
+  command.add_option("--jobs", options.jobs, "tumbled processes at a time")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  command.add_option("--tumbled", options.tumbled,
+                     "tumbled binary (default: next to tumble-eval or in the build tree)");
+  command.add_option("--config", options.config, "tumbled --config FILE for every job");
+  command.add_option("--runs", options.runs_glob, "only runs whose name matches this shell pattern")
+      ->capture_default_str();
+  command
+      .add_option("--kinds", options.kinds,
+                  "only these kinds of run (rail, turntable, rolling_cage; cage = rolling_cage)")
+      ->delimiter(',');
+  command.add_option("--models", options.models, "weight models (NM,TW,VTW,GVTW,SAW)")
+      ->delimiter(',')
+      ->check(CLI::IsMember(kModels))
+      ->capture_default_str();
+  command.add_option("--deskew", options.deskew, "de-skew on, off or both")
+      ->check(CLI::IsMember({"on", "off", "both"}))
+      ->capture_default_str();
+  command.add_option("--timeout-s", options.timeout_s, "kill a tumbled that runs longer than this")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+}
+
+std::vector<Variant> variants_of(const CommonOptions& options) {
+  std::vector<Variant> variants;
+  for (const bool deskew : {false, true}) {
+    if (options.deskew == (deskew ? "off" : "on")) continue;
+    for (const std::string& model : kModels)
+      if (std::find(options.models.begin(), options.models.end(), model) != options.models.end())
+        variants.push_back(Variant{model, deskew});
+  }
+  return variants;
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : ",") + item;
+  return text;
+}
+
+std::string selection_text(const CommonOptions& options) {
+  return "runs '" + options.runs_glob + "', kinds " + (options.kinds.empty() ? "all" : join(options.kinds)) +
+         ", models " + join(options.models) + ", de-skew " + options.deskew;
+}
+
+RunnerOptions runner_options(const CommonOptions& options, const char* argv0) {
+  RunnerOptions runner;
+  std::error_code error;
+  std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error) self = argv0;
+  runner.tumbled.tumbled = options.tumbled.empty() ? locate_tumbled(self) : std::filesystem::path(options.tumbled);
+  if (!options.config.empty()) runner.tumbled.config = std::filesystem::absolute(options.config);
+  runner.out_dir = options.out_dir.empty() ? std::filesystem::path(options.bench_dir) / "eval"
+                                           : std::filesystem::path(options.out_dir);
+  runner.parallel_jobs = options.jobs;
+  runner.timeout_s = options.timeout_s;
+  return runner;
+}
+
+std::vector<BenchRun> selected_runs(const CommonOptions& options) {
+  const std::vector<BenchRun> all = read_bench_index(options.bench_dir);
+  std::vector<BenchRun> runs = select_runs(all, RunFilter{options.runs_glob, options.kinds});
+  if (runs.empty())
+    throw std::runtime_error("no run of " + options.bench_dir + " matches " + selection_text(options) +
+                             " (its kinds: " + join(kinds_of(all)) + ")");
+  return runs;
+}
+
+void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream out(path);
+  out << text;
+  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+int run_matrix(const CommonOptions& options, const EvalOptions& eval, const char* argv0) {
+  const std::vector<BenchRun> runs = selected_runs(options);
+  RunnerOptions runner = runner_options(options, argv0);
+  runner.eval = eval;
+  std::filesystem::create_directories(runner.out_dir);
+  const std::vector<Variant> variants = variants_of(options);
+  std::fprintf(stderr, "eval: %zu runs × %zu variants, %zu at a time, tumbled %s → %s\n", runs.size(), variants.size(),
+               runner.parallel_jobs, runner.tumbled.tumbled.c_str(), runner.out_dir.c_str());
+  const std::vector<RunResult> results = run_jobs(plan_jobs(runs, variants), runner);
+
+  const std::vector<CellSummary> cells = summarize_cells(results, variants);
+  write_runs_csv(runner.out_dir / "runs.csv", results);
+  const std::string plot_problem = draw_box_plot(cells, runner.out_dir / "boxplot.gp", runner.out_dir / "boxplot.png");
+  if (!plot_problem.empty()) std::fprintf(stderr, "eval: no box plot: %s\n", plot_problem.c_str());
+  MatrixDescription description{options.bench_dir, selection_text(options), runs.size(), eval,
+                                plot_problem.empty() ? "boxplot.png" : ""};
+  const std::string markdown = results_markdown(description, cells, results);
+  write_text(runner.out_dir / "results.md", markdown);
+  std::fputs(markdown.c_str(), stdout);
+
+  std::size_t failed = 0;
+  for (const RunResult& result : results) failed += result.status == RunStatus::Failed ? 1 : 0;
+  std::fprintf(stderr, "eval: wrote %s (results.md, runs.csv, boxplot.png, trajectories/); %zu of %zu jobs failed\n",
+               runner.out_dir.c_str(), failed, results.size());
+  return failed > 0 || !plot_problem.empty() ? kExitSomeFailed : 0;
+}
+
+int run_speed(const CommonOptions& options, const char* argv0) {
+  const std::vector<BenchRun> runs = selected_runs(options);
+  const RunnerOptions runner = runner_options(options, argv0);
+  std::filesystem::create_directories(runner.out_dir);
+  const std::vector<Job> jobs = plan_jobs(runs, variants_of(options));
+  std::fprintf(stderr, "eval: speed over %zu jobs, %zu at a time, tumbled %s\n", jobs.size(), runner.parallel_jobs,
+               runner.tumbled.tumbled.c_str());
+  const std::vector<RunResult> results = run_jobs(jobs, runner);
+  std::vector<std::filesystem::path> scan_logs;
+  for (const Job& job : jobs) scan_logs.push_back(job_paths(runner.out_dir, job.run.name, job.variant).scan_log);
+  const SpeedSummary summary = summarize_speed(results, scan_logs);
+  const std::string markdown =
+      speed_markdown(summary, "Bench `" + options.bench_dir + "`, " + selection_text(options) + ", " +
+                                  std::to_string(runner.parallel_jobs) + " tumbled at a time.");
+  write_text(runner.out_dir / "speed.md", markdown);
+  std::fputs(markdown.c_str(), stdout);
+  return summary.failed_runs > 0 ? kExitSomeFailed : 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"tumble-eval: the paper's evaluation of tumbled on a tumble-sim bench"};
+  app.require_subcommand(1);
+
+  CommonOptions matrix_options;
+  matrix_options.models = kModels;
+  EvalOptions eval;
+  CLI::App* matrix = app.add_subcommand(
+      "matrix", "every run × {NM,TW,VTW,GVTW,SAW} × {no de-skew, de-skew}: results.md, runs.csv, boxplot.png");
+  add_common_options(*matrix, matrix_options);
+  matrix->add_option("--segment-m", eval.drift.segment_m, "RPE segment length (travelled distance)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  matrix->add_option("--diverged-cm-per-m", eval.limits.translation_cm_per_m, "diverged above this translation error")
+      ->capture_default_str();
+  matrix->add_option("--diverged-deg-per-m", eval.limits.rotation_deg_per_m, "diverged above this rotation error")
+      ->capture_default_str();
+  matrix
+      ->add_option("--max-end-gap-s", eval.limits.max_end_gap_s,
+                   "diverged when the last pose is this long before the run ends")
+      ->capture_default_str();
+
+  CommonOptions speed_options;
+  speed_options.jobs = 1;  // timing: one tumbled at a time unless asked
+  speed_options.models = {"GVTW"};
+  speed_options.deskew = "on";
+  CLI::App* speed = app.add_subcommand("speed", "per-stage time per scan, p50/p99, multiple of real time, peak RSS");
+  add_common_options(*speed, speed_options);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : kExitUsage;
+  }
+  try {
+    if (matrix->parsed()) return run_matrix(matrix_options, eval, argv[0]);
+    return run_speed(speed_options, argv[0]);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "tumble-eval: %s\n", e.what());
+    return kExitUsage;
+  }
+}
