@@ -1,5 +1,6 @@
 // tumble-eval: runs tumbled over a tumble-sim bench and reports the paper's
-// figures (matrix) or what the pipeline costs (speed). See README.md.
+// figures (matrix) or what the pipeline costs (speed); scores one finished
+// tumbled run against its ground truth (score). See README.md.
 // Exit codes: 0 every job evaluated, 1 some job failed or the plot could not
 // be drawn (all else is still reported), 2 usage error or unreadable bench.
 #include <CLI/CLI.hpp>
@@ -14,6 +15,7 @@
 #include "tools/eval/box_plot.hpp"
 #include "tools/eval/job_runner.hpp"
 #include "tools/eval/matrix_report.hpp"
+#include "tools/eval/run_score.hpp"
 #include "tools/eval/speed_report.hpp"
 
 namespace {
@@ -160,6 +162,21 @@ int run_speed(const CommonOptions& options, const char* argv0) {
   return summary.failed_runs > 0 ? kExitSomeFailed : 0;
 }
 
+struct ScoreOptions {
+  std::string ground_truth;
+  std::string trajectory;
+  std::string scan_log;
+  DriftOptions drift;
+};
+
+int run_score(const ScoreOptions& options) {
+  const std::optional<std::filesystem::path> scan_log =
+      options.scan_log.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scan_log);
+  const RunScore score = score_run(options.ground_truth, options.trajectory, scan_log, options.drift);
+  std::fputs(score_markdown(score).c_str(), stdout);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -191,6 +208,20 @@ int main(int argc, char** argv) {
   CLI::App* speed = app.add_subcommand("speed", "per-stage time per scan, p50/p99, multiple of real time, peak RSS");
   add_common_options(*speed, speed_options);
 
+  ScoreOptions score_options;
+  CLI::App* score =
+      app.add_subcommand("score", "one tumbled trajectory against ground truth, and its scan log's stage times");
+  score->add_option("ground_truth", score_options.ground_truth, "ground truth (TUM), e.g. RUN/ground_truth.tum")
+      ->required()
+      ->check(CLI::ExistingFile);
+  score->add_option("trajectory", score_options.trajectory, "tumbled --trajectory-out file (TUM)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  score->add_option("--scan-log", score_options.scan_log, "tumbled --scan-log file (CSV)")->check(CLI::ExistingFile);
+  score->add_option("--segment-m", score_options.drift.segment_m, "RPE segment length (travelled distance)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -199,6 +230,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (matrix->parsed()) return run_matrix(matrix_options, eval, argv[0]);
+    if (score->parsed()) return run_score(score_options);
     return run_speed(speed_options, argv[0]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tumble-eval: %s\n", e.what());

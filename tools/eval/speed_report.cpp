@@ -9,7 +9,6 @@
 #include "tools/eval/scan_log.hpp"
 
 namespace tumble::eval {
-namespace {
 
 TimingStats timing_stats(std::string name, std::vector<double> values_ms) {
   TimingStats stats;
@@ -24,14 +23,13 @@ TimingStats timing_stats(std::string name, std::vector<double> values_ms) {
   return stats;
 }
 
-std::string row(const TimingStats& stats) {
+std::string timing_row(const TimingStats& stats) {
   char text[160];
   std::snprintf(text, sizeof text, "| %s | %.3f | %.3f | %.3f | %.3f |\n", stats.name.c_str(), stats.mean_ms,
                 stats.p50_ms, stats.p99_ms, stats.max_ms);
   return text;
 }
 
-}  // namespace
 
 SpeedSummary summarize_speed(const std::vector<RunResult>& results,
                              const std::vector<std::filesystem::path>& scan_logs) {
@@ -100,9 +98,9 @@ std::string speed_markdown(const SpeedSummary& summary, const std::string& headi
     md += "Time per scan (ms; " + std::to_string(summary.total->scans) +
           " scans; the lidar's budget is 100 ms per scan at 10 Hz):\n\n";
     md += "| stage | mean | p50 | p99 | max |\n|---|---|---|---|---|\n";
-    for (const TimingStats& stage : summary.stages) md += row(stage);
-    md += row(*summary.total);
-    if (summary.latency) md += row(*summary.latency);
+    for (const TimingStats& stage : summary.stages) md += timing_row(stage);
+    md += timing_row(*summary.total);
+    if (summary.latency) md += timing_row(*summary.latency);
     md += "\n";
   }
   if (!summary.problems.empty()) {

@@ -33,6 +33,11 @@ struct SpeedSummary {
   std::vector<std::string> problems;  // "run variant: why" for the runs left out
 };
 
+// Mean, p50, p99 and max of one stage's times per scan.
+TimingStats timing_stats(std::string name, std::vector<double> values_ms);
+// "| name | mean | p50 | p99 | max |" (ms), one markdown table row.
+std::string timing_row(const TimingStats& stats);
+
 // scan_logs[i] belongs to results[i].
 SpeedSummary summarize_speed(const std::vector<RunResult>& results,
                              const std::vector<std::filesystem::path>& scan_logs);
