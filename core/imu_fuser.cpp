@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "core/rotation.hpp"
+
 namespace tumble {
 
 namespace {
@@ -63,6 +65,18 @@ void ImuFuser::integrate(KinematicState& state, const Eigen::Vector3d& a0, const
   state.variance.array() += process_noise_psd_ * dt_s;
 }
 
+Eigen::Vector3d ImuFuser::unclipped_gyro(const Eigen::Vector3d& gyro_clipped_i,
+                                         const std::array<bool, 3>& clipped) const {
+  Eigen::Vector3d gyro = gyro_clipped_i;
+  if (!lidar_rate_i_rad_s_) return gyro;
+  for (int j = 0; j < 3; ++j) {
+    const double lidar = (*lidar_rate_i_rad_s_)[j];
+    if (clipped[static_cast<std::size_t>(j)] && lidar * gyro[j] > 0.0 && std::abs(lidar) > std::abs(gyro[j]))
+      gyro[j] = lidar;
+  }
+  return gyro;
+}
+
 void ImuFuser::add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const {
   if (!any(entry.accel_clipped)) return;
   const Eigen::Matrix3d r_wi = entry.q_wi.toRotationMatrix();
@@ -100,9 +114,12 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   HistoryEntry entry;
   entry.t_s = sample.t_s;
   entry.accel_i = sample.accel_m_s2;
-  entry.gyro_i = sample.gyro_rad_s - gyro_bias_;
+  entry.gyro_clipped_i = sample.gyro_rad_s - gyro_bias_;
   entry.accel_clipped = sample.accel_saturated;
   entry.gyro_clipped = sample.gyro_saturated;
+  entry.gyro_i = any(entry.gyro_clipped) ? unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped)
+                                         : entry.gyro_clipped_i;
+  if (entry.gyro_i != entry.gyro_clipped_i) ++stats_.gyro_samples_from_lidar;
 
   if (params_.attitude_from_device && sample.has_orientation) {
     if (!device_alignment_) device_alignment_ = madgwick_.orientation() * sample.orientation.conjugate();
@@ -165,7 +182,8 @@ void ImuFuser::initialize(const ImuSample& last_sample) {
   HistoryEntry entry;
   entry.t_s = last_sample.t_s;
   entry.accel_i = last_sample.accel_m_s2;
-  entry.gyro_i = last_sample.gyro_rad_s - gyro_bias_;
+  entry.gyro_clipped_i = last_sample.gyro_rad_s - gyro_bias_;
+  entry.gyro_i = entry.gyro_clipped_i;
   entry.q_wi = q_wi;
   entry.accel_w = gravity_free_accel(q_wi, entry.accel_i);
   entry.state.p_w = q_wl * params_.T_li.translation();  // the lidar is at W's origin
@@ -242,13 +260,15 @@ CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, c
       velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
                                      (position_sigma_m * position_sigma_m + previous.sigma_m * previous.sigma_m) /
                                          (dt * dt)};
+      const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
+      lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
     }
   }
 
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
   repropagate(velocity, reset);
-  previous_registration_ = RegisteredPose{t_scan_start_s, reset.p_wi, position_sigma_m};
+  previous_registration_ = RegisteredPose{t_scan_start_s, reset.p_wi, q_wi_registered, position_sigma_m};
 
   result.pose_reset = true;
   result.velocity_updated = velocity.has_value();
@@ -266,13 +286,26 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
   bool velocity_pending = velocity.has_value();
   bool reset_pending = true;
   trajectory_.truncate_after(t);
+  // After the reset the attitude is rebuilt step by step: Madgwick's step
+  // where the gyro was not clipped, the newest lidar rate where it was.
+  std::optional<Eigen::Quaterniond> previous_q_before, previous_q_after;
 
   for (std::size_t n = base + 1; n < history_.size(); ++n) {
     HistoryEntry& entry = history_[n];
     const double t_previous = t;
     const Eigen::Vector3d accel_previous = accel_at_t;
     if (entry.t_s >= reset.t_s) {
-      entry.q_wi = (reset.correction * entry.q_wi).normalized();
+      const Eigen::Quaterniond q_before = entry.q_wi;
+      if (!previous_q_after) {
+        entry.q_wi = (reset.correction * q_before).normalized();
+      } else if (any(entry.gyro_clipped)) {
+        entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
+        entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
+      } else {
+        entry.q_wi = (*previous_q_after * (previous_q_before->conjugate() * q_before)).normalized();
+      }
+      previous_q_before = q_before;
+      previous_q_after = entry.q_wi;
       entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
     }
     // Advances the state to an event time inside (t_previous, entry.t_s].

@@ -44,8 +44,17 @@
 //    before the start of a scan that is already registered.
 //    Every later scan starts after t_k, and de-skewing uses only the motion
 //    within a scan, so it never sees a jump.
-// 6. Saturation: the fuser integrates clipped values (nothing better is
-//    known) and flags them through to the samples: gyro clipping per lidar
+// 6. Saturation: a clipped gyro axis only says |ω| ≥ range there. The
+//    MTi-30's range is 450 deg/s (7.85 rad/s) and a rolling cage turns at up
+//    to 11 rad/s, so integrating the clipped value would lose up to ~0.3 rad
+//    per scan of attitude, and with it the ICP's initial guess and the
+//    de-skew. Ours: on a clipped axis the fuser uses the lidar's rate
+//    instead, the mean body rate between the last two registered poses
+//    (constant velocity), when it has the clipped reading's sign and a larger
+//    magnitude; otherwise the clipped value (the reading is a lower bound).
+//    Each correction re-integrates the clipped samples after the registered
+//    scan with the new rate (the other samples keep Madgwick's steps).
+//    Clipping is flagged through to the samples: gyro clipping per lidar
 //    axis for that sample; accelerometer clipping adds process noise
 //    (saturated_accel_sigma along the clipped axis in W) and marks the W axes
 //    it touches as "speed unknown" until the next lidar velocity update.
@@ -104,6 +113,7 @@ struct ImuFuserStats {
   std::uint64_t static_restarts = 0;             // motion during the static window
   std::uint64_t accel_gated = 0;                 // Madgwick correction skipped (gate or clipping)
   std::uint64_t gyro_saturated_samples = 0;
+  std::uint64_t gyro_samples_from_lidar = 0;     // clipped samples given the lidar's rate (header, 6)
   std::uint64_t accel_saturated_samples = 0;
   std::uint64_t pose_corrections = 0;
   std::uint64_t velocity_updates = 0;
@@ -154,7 +164,8 @@ class ImuFuser {
   struct HistoryEntry {
     double t_s = 0.0;
     Eigen::Vector3d accel_i = Eigen::Vector3d::Zero();    // specific force as measured
-    Eigen::Vector3d gyro_i = Eigen::Vector3d::Zero();     // bias removed
+    Eigen::Vector3d gyro_clipped_i = Eigen::Vector3d::Zero();  // bias removed, as measured
+    Eigen::Vector3d gyro_i = Eigen::Vector3d::Zero();     // bias removed, clipped axes from the lidar's rate
     std::array<bool, 3> accel_clipped{};
     std::array<bool, 3> gyro_clipped{};
     Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();
@@ -176,6 +187,8 @@ class ImuFuser {
   void accumulate_static(const ImuSample& sample);
   void initialize(const ImuSample& last_sample);
   Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
+  // The gyro a clipped sample most likely saw (header, 6).
+  Eigen::Vector3d unclipped_gyro(const Eigen::Vector3d& gyro_clipped_i, const std::array<bool, 3>& clipped) const;
   void integrate(KinematicState& state, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, double dt_s) const;
   void add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const;
   // Index of the last history entry with t < t_s (requires t_s > the oldest).
@@ -209,9 +222,12 @@ class ImuFuser {
   struct RegisteredPose {
     double t_s = 0.0;
     Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
+    Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();
     double sigma_m = 0.0;
   };
   std::optional<RegisteredPose> previous_registration_;
+  // Mean IMU body rate between the last two registered poses (header, 6).
+  std::optional<Eigen::Vector3d> lidar_rate_i_rad_s_;
   ImuFuserStats stats_;
 };
 

@@ -1,7 +1,8 @@
 // The fuser against simulated IMU data with a known truth: static
 // initialisation, the lever arm, the velocity filter (tracking a perfect lidar,
 // removing a bias drift, applying the mean velocity at the mid-interval time),
-// the pose correction, saturation flags and the bounded buffers.
+// the pose correction, saturation flags, clipped gyro axes and the bounded
+// buffers.
 #include "core/imu_fuser.hpp"
 
 #include <gtest/gtest.h>
@@ -333,6 +334,81 @@ TEST(ImuFuser, SaturationIsFlaggedPerLidarAxisAndAccelClipsLastUntilTheNextVeloc
   EXPECT_TRUE(trajectory[sample_before(trajectory, sample_time(254))].accel_saturated[0]);
   EXPECT_FALSE(trajectory[sample_before(trajectory, sample_time(256))].accel_saturated[0]);
   EXPECT_FALSE(trajectory.back().saturated[0]);
+}
+
+// A yaw at `rate` from kMotionStart whose gyro reads (and flags) clipped_rate.
+struct ClippedYaw {
+  Truth truth;
+  double clipped_rate = 0.0;
+  ImuSample sample(int n) const {
+    ImuSample s = sample_at(truth, sample_time(n));
+    if (std::abs(s.gyro_rad_s.z()) > clipped_rate) {
+      s.gyro_rad_s.z() = std::copysign(clipped_rate, s.gyro_rad_s.z());
+      s.gyro_saturated[2] = true;
+    }
+    return s;
+  }
+};
+
+ClippedYaw clipped_yaw(double rate, double clipped_rate) {
+  ClippedYaw yaw;
+  yaw.clipped_rate = clipped_rate;
+  yaw.truth.q_wi = [=](double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(rate * std::max(0.0, t - kMotionStart), Eigen::Vector3d::UnitZ()));
+  };
+  yaw.truth.omega_i = [=](double t) { return Eigen::Vector3d(0, 0, t > kMotionStart ? rate : 0.0); };
+  return yaw;
+}
+
+double angle_deg(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b) {
+  return Eigen::AngleAxisd(a.conjugate() * b).angle() * 180.0 / std::numbers::pi;
+}
+
+// Feeds the scans of 10 samples from sample 200 on, each registered with the
+// true pose half a scan after it ends (the pipeline's lag); `registered_q`
+// gives the registered attitude. Returns the newest trajectory sample's error.
+double run_scans(ImuFuser& fuser, const ClippedYaw& yaw,
+                 const std::function<Eigen::Quaterniond(double)>& registered_q, int scans) {
+  for (int n = 0; n < 200; ++n) fuser.add_imu(yaw.sample(n));
+  int fed = 199;
+  for (int k = 0; k < scans; ++k) {
+    const int scan_start = 200 + 10 * k;
+    for (; fed < scan_start + 15; ++fed) fuser.add_imu(yaw.sample(fed + 1));
+    const double t = sample_time(scan_start);
+    fuser.correct_with_registered_pose(t, pose_of(registered_q(t), Eigen::Vector3d::Zero()), 0.01);
+  }
+  const TrajectorySample& newest = fuser.trajectory().back();
+  return angle_deg(newest.q_wl, yaw.truth.q_wi(newest.t_s));
+}
+
+TEST(ImuFuser, AClippedGyroAxisTakesTheLidarRateAndTheAttitudeKeepsUp) {
+  // 10 rad/s against the MTi-30's 7.85 rad/s range: 2.15 rad/s missing, 6.2°
+  // over the 0.05 s the newest samples run ahead of the last registered scan.
+  const ClippedYaw yaw = clipped_yaw(10.0, 7.85);
+  ImuFuser with_lidar_rate(ImuFuserParams{});
+  const double error_deg = run_scans(with_lidar_rate, yaw, yaw.truth.q_wi, 20);
+  EXPECT_LT(error_deg, 0.2);
+  EXPECT_GT(with_lidar_rate.stats().gyro_samples_from_lidar, 100u);
+  EXPECT_TRUE(with_lidar_rate.trajectory().back().gyro_saturated[2]);  // still flagged for the weights
+  EXPECT_NEAR(with_lidar_rate.trajectory().back().omega_l.z(), 10.0, 1e-6);
+
+  // Control: corrections with one scan only (no lidar rate yet) leave the clip.
+  ImuFuser single_scan(ImuFuserParams{});
+  EXPECT_GT(run_scans(single_scan, yaw, yaw.truth.q_wi, 1), 5.0);
+  EXPECT_EQ(single_scan.stats().gyro_samples_from_lidar, 0u);
+}
+
+TEST(ImuFuser, TheClippedReadingStaysALowerBoundOnTheRate) {
+  // The registration claims 5 rad/s while the gyro is clipped at 7.85: the
+  // gyro is right that it turns at least that fast, so its value is kept.
+  const ClippedYaw yaw = clipped_yaw(10.0, 7.85);
+  ImuFuser fuser(ImuFuserParams{});
+  const auto slow = [](double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(5.0 * std::max(0.0, t - kMotionStart), Eigen::Vector3d::UnitZ()));
+  };
+  run_scans(fuser, yaw, slow, 10);
+  EXPECT_EQ(fuser.stats().gyro_samples_from_lidar, 0u);
+  EXPECT_NEAR(fuser.trajectory().back().omega_l.z(), 7.85, 1e-6);
 }
 
 TEST(ImuFuser, RejectsCorrectionsItCannotPlaceAndOutOfOrderSamples) {
