@@ -82,7 +82,14 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
 
   publisher.start();
   pipeline.start(std::move(parts), [&loop] { loop.wake(); });
-  systemd.ready();
+  // systemd's READY=1 means "localising can start": both sensors deliver.
+  const PipelineCounters& counters = pipeline.counters();
+  const auto sensors_deliver = [&counters] {
+    return counters.lidar_packets.load(std::memory_order_relaxed) > 0 &&
+           counters.imu_samples.load(std::memory_order_relaxed) > 0;
+  };
+  bool ready = false;
+  systemd.status("waiting for sensors");
   spdlog::info("running: LCM {} channels {}*, model {}, de-skew {}", config.lcm.url, config.lcm.channel_prefix,
                to_string(config.registration.model), config.registration.deskew ? "on" : "off");
 
@@ -112,6 +119,11 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
       drain = true;
       break;
     }
+    if (!ready && sensors_deliver()) {
+      ready = true;
+      systemd.ready();
+      spdlog::info("both sensors deliver: ready");
+    }
     if (event != MainLoop::Event::Tick) continue;
     const std::int64_t now = steady_now_ns();
     if (now >= next_status_ns) {
@@ -134,6 +146,7 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   }
 
   systemd.stopping();
+  if (drain) status.input_ended();
   pipeline.stop(drain ? Pipeline::Drain::Yes : Pipeline::Drain::No);
   publish_status();  // the final counts
   publisher.stop();

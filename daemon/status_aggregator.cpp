@@ -78,7 +78,9 @@ void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumb
   in.consecutive_good_scans = consecutive_good_scans_;
   in.data_dropped = drops != previous_drops_;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover};
-  const HealthTransition next = next_health_state(state_, seconds(now_steady_ns - state_since_steady_ns_), in, limits);
+  const HealthTransition next =
+      input_ended_ ? HealthTransition{state_, {}}
+                   : next_health_state(state_, seconds(now_steady_ns - state_since_steady_ns_), in, limits);
   if (next.state != state_) {
     const bool worse = next.state == HealthState::Degraded || next.state == HealthState::Lost;
     logger_->log(worse ? spdlog::level::warn : spdlog::level::info, "state {} -> {}: {}", to_string(state_),

@@ -38,6 +38,10 @@ class StatusAggregator {
   // now_steady_ns: monotonic clock; utime: host clock in microseconds (the message stamp).
   void tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out);
 
+  // The input ended (a replay's files): the sensors falling silent is then
+  // no fault, so later ticks keep the state (and log no change).
+  void input_ended() { input_ended_ = true; }
+
   HealthState state() const { return state_; }
   // One line for systemd's STATUS=, from the last tick.
   const std::string& summary() const { return summary_; }
@@ -69,6 +73,7 @@ class StatusAggregator {
   int bad_scans_in_period_ = 0;
   int consecutive_good_scans_ = 0;
 
+  bool input_ended_ = false;
   HealthState state_ = HealthState::WaitingForSensors;
   std::int64_t state_since_steady_ns_;
   std::string summary_;

@@ -163,6 +163,21 @@ TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChang
   EXPECT_NE(aggregator_.summary().find("lost"), std::string::npos);
 }
 
+TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
+  counters_.fuser_initialised = true;
+  sensors_alive(kSecond);
+  report_scan(true, 1.0f);
+  aggregator_.tick(kSecond, 0, status_);
+  aggregator_.tick(kSecond, 0, status_);
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  const int lines = log_lines();
+  aggregator_.input_ended();
+  aggregator_.tick(10 * kSecond, 0, status_);  // both sensors silent for 9 s
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  EXPECT_EQ(status_.state_name, "tracking");
+  EXPECT_EQ(log_lines(), lines) << log_.str();
+}
+
 TEST_F(StatusAggregatorTest, OutputRingDropsDoNotDegradeHealth) {
   counters_.fuser_initialised = true;
   sensors_alive(kSecond);
