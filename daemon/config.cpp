@@ -569,7 +569,17 @@ void apply_override(YAML::Node& root, const ConfigOverride& o) {
     if (!child.IsMap()) fail(fmt::format("{}: expected a mapping of keys, got {}", path, describe(child)));
     node.reset(child);
   }
-  node[parts.back()] = o.value;
+  // A list (translation_m=[0.02,0,-0.08]) is YAML flow syntax; anything else
+  // stays text, as a scalar in the file would be.
+  if (!o.value.empty() && o.value.front() == '[') {
+    try {
+      node[parts.back()] = YAML::Load(o.value);
+    } catch (const YAML::Exception& e) {
+      fail(fmt::format("{}: {} is not a YAML list ({})", o.key, o.value, e.msg));
+    }
+  } else {
+    node[parts.back()] = o.value;
+  }
 }
 
 DaemonConfig read(YAML::Node root, std::string_view source_name, std::span<const ConfigOverride> overrides) {

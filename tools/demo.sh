@@ -33,11 +33,17 @@ else
   log "reusing $run (delete it to regenerate)"
 fi
 
+# The simulated IMU's mounting, from the run's manifest, as a robot's
+# calibrated tumbled.yaml would give it.
+extrinsic() { sed -n "/^  T_LI:/,/meaning:/s/^    $1: //p" "$run/manifest.yaml"; }
+mounting=(--set "imu.extrinsic_T_LI.translation_m=$(extrinsic translation_m)"
+          --set "imu.extrinsic_T_LI.rotation_rpy_deg=$(extrinsic rpy_deg)")
+
 rate=(--rate 1)
 for arg in "$@"; do [ "$arg" = --rate ] && rate=(); done
 mkdir -p "$out"
-log "replaying through tumbled ${rate[*]} $*; watch it with: lcm-spy"
-"$tumbled" --replay "$run/lidar.pcap" "$run/imu.pcap" "${rate[@]}" \
+log "replaying through tumbled ${rate[*]} $*; watch it with: $build/lcmtypes/tumble-spy"
+"$tumbled" --replay "$run/lidar.pcap" "$run/imu.pcap" "${rate[@]}" "${mounting[@]}" \
   --trajectory-out "$out/trajectory.tum" --scan-log "$out/scans.csv" "$@"
 
 echo

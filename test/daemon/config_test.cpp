@@ -189,6 +189,20 @@ TEST(Config, OverridesWinOverTheFileAndAreValidated) {
   EXPECT_EQ(default_config(nested).daemon.health.sensor_timeout_s, 2.0);
 }
 
+TEST(Config, AnOverrideCanBeAList) {
+  const std::vector<ConfigOverride> list = {{"imu.extrinsic_T_LI.translation_m", "[0.02, 0, -0.08]"}};
+  EXPECT_EQ(default_config(list).imu.extrinsic_T_LI.translation_m, (std::array<double, 3>{0.02, 0.0, -0.08}));
+  const std::vector<ConfigOverride> broken = {{"imu.extrinsic_T_LI.translation_m", "[0.02, 0"}};
+  try {
+    default_config(broken);
+    FAIL() << "no ConfigError";
+  } catch (const ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("imu.extrinsic_T_LI.translation_m: [0.02, 0 is not a YAML list"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST(Config, ExtrinsicFromRollPitchYaw) {
   ExtrinsicConfig e;
   e.translation_m = {0.1, 0.2, 0.3};
