@@ -1,4 +1,4 @@
-// sd_notify for Type=notify services: READY=1 once the pipeline runs,
+// sd_notify for Type=notify services: READY=1 once both sensors deliver,
 // WATCHDOG=1 while it is healthy, STATUS=<one line>, STOPPING=1 at shutdown.
 // Every call is a no-op when the process is not started by systemd (no
 // NOTIFY_SOCKET), so tumbled runs the same by hand.

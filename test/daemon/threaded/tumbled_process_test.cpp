@@ -1,17 +1,14 @@
 // tumbled as systemd runs it: notification socket, watchdog, SIGTERM.
 #include <gtest/gtest.h>
-#include <poll.h>
 #include <signal.h>
-#include <sys/socket.h>
-#include <sys/un.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <sstream>
 #include <string>
 
+#include "test/daemon/notify_socket.hpp"
 #include "test/daemon/process.hpp"
 
 namespace tumble::daemon {
@@ -20,46 +17,6 @@ namespace {
 namespace fs = std::filesystem;
 
 const std::string kTumbled = std::string(TUMBLE_BINARY_DIR) + "/daemon/tumbled";
-
-class NotifySocket {
- public:
-  NotifySocket() : path_(fs::temp_directory_path() / ("tumble_sd_" + std::to_string(::getpid()))) {
-    fd_ = ::socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
-    sockaddr_un address{};
-    address.sun_family = AF_UNIX;
-    path_.string().copy(address.sun_path, sizeof(address.sun_path) - 1);
-    fs::remove(path_);
-    bound_ = ::bind(fd_, reinterpret_cast<const sockaddr*>(&address), sizeof address) == 0;
-  }
-  ~NotifySocket() {
-    ::close(fd_);
-    fs::remove(path_);
-  }
-  bool bound() const { return bound_; }
-  // Every notification read so far, one per line.
-  const std::string& received() const { return received_; }
-  std::string path() const { return path_.string(); }
-
-  // Reads notifications until one contains `wanted`; nullopt after 60 s of silence.
-  std::optional<std::string> wait_for(const std::string& wanted) {
-    for (;;) {
-      pollfd p{fd_, POLLIN, 0};
-      if (::poll(&p, 1, 60'000) <= 0) return std::nullopt;
-      char buffer[1024];
-      const ssize_t n = ::recv(fd_, buffer, sizeof buffer, 0);
-      if (n <= 0) return std::nullopt;
-      const std::string message(buffer, static_cast<std::size_t>(n));
-      received_ += message + "\n";
-      if (message.find(wanted) != std::string::npos) return message;
-    }
-  }
-
- private:
-  fs::path path_;
-  int fd_ = -1;
-  bool bound_ = false;
-  std::string received_;
-};
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path);
@@ -72,7 +29,7 @@ std::string read_file(const fs::path& path) {
 // pings the watchdog and reports its state, but is not READY. (READY after
 // both sensors deliver: test/e2e.)
 TEST(TumbledProcess, WithoutSensorsPingsTheWatchdogButIsNotReadyAndStopsOnSigterm) {
-  NotifySocket socket;
+  test::NotifySocket socket;
   ASSERT_TRUE(socket.bound());
   const fs::path base = fs::temp_directory_path() / ("tumble_proc_" + std::to_string(::getpid()));
   const std::string out = base.string() + ".out", err = base.string() + ".err";

@@ -1,0 +1,248 @@
+// End to end with every real process: tumble-sim live plays the default
+// extreme-motion scenario into loopback UDP and a pty, tumbled runs LIVE on
+// them (as systemd would start it), this test subscribes over LCM like any
+// client (udpm, ttl=0) and lcm-logger records the same traffic for the jar
+// test. Run inside a private network namespace (in_private_network.sh).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <lcm/lcm-cpp.hpp>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "test/daemon/notify_socket.hpp"
+#include "test/daemon/process.hpp"
+#include "tumble/odometry_t.hpp"
+#include "tumble/registration_t.hpp"
+
+namespace tumble::e2e {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+constexpr const char* kUrl = "udpm://239.255.76.67:7667?ttl=0";
+constexpr double kImuRate_hz = 100.0;    // the default scenario's
+constexpr double kScanRate_hz = 10.0;    // 600 rpm
+constexpr double kMaxDrift_cm_per_m = 3.0;  // replay of this run: ~0.4 (see README Results)
+constexpr double kMaxDrift_deg_per_m = 0.5;
+
+// A child that is killed (and reaped) if the test ends while it runs.
+class Child {
+ public:
+  Child(const std::vector<std::string>& argv, const std::vector<std::string>& env, const fs::path& log_base)
+      : out_(log_base.string() + ".out"), err_(log_base.string() + ".err"),
+        pid_(test::spawn_process(argv, env, out_, err_)) {}
+  ~Child() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      test::wait_process(pid_);
+    }
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+
+  void signal(int number) const { ::kill(pid_, number); }
+  // The exit code, or nullopt when it is still running after timeout_s.
+  std::optional<int> wait_for(double timeout_s) {
+    const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
+    for (;;) {
+      int status = 0;
+      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      }
+      if (Clock::now() >= deadline) return std::nullopt;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+  bool running() { return pid_ > 0 && !wait_for(0.0).has_value(); }
+  std::string out() const { return slurp(out_); }
+  std::string err() const { return slurp(err_); }
+
+ private:
+  static std::string slurp(const std::string& path) {
+    std::ifstream in(path);
+    std::stringstream text;
+    text << in.rdbuf();
+    return text.str();
+  }
+  std::string out_, err_;
+  int pid_;
+};
+
+struct Pose {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
+};
+
+// First and last poses of a TUM file, and the path length between them.
+struct TumSpan {
+  Pose first, last;
+  double length_m = 0.0;
+};
+
+TumSpan read_tum_span(const fs::path& path) {
+  std::ifstream in(path);
+  TumSpan span;
+  bool any = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream fields(line);
+    double t, x, y, z, qx, qy, qz, qw;
+    fields >> t >> x >> y >> z >> qx >> qy >> qz >> qw;
+    const Pose pose{{x, y, z}, Eigen::Quaterniond(qw, qx, qy, qz)};
+    if (!any) span.first = pose;
+    if (any) span.length_m += (pose.p - span.last.p).norm();
+    span.last = pose;
+    any = true;
+  }
+  return span;
+}
+
+// What this test receives over LCM, and how old each message is on arrival
+// (host clock minus its utime: the sample's or scan's first point's time).
+struct Received {
+  std::vector<tumble::odometry_t> odometry;
+  std::vector<tumble::registration_t> poses;
+  std::vector<double> odometry_age_ms, pose_age_ms;
+  void on_odometry(const lcm::ReceiveBuffer* buffer, const std::string&, const tumble::odometry_t* m) {
+    odometry.push_back(*m);
+    odometry_age_ms.push_back(static_cast<double>(buffer->recv_utime - m->utime) * 1e-3);
+  }
+  void on_pose(const lcm::ReceiveBuffer* buffer, const std::string&, const tumble::registration_t* m) {
+    if (!m->registered) return;
+    poses.push_back(*m);
+    pose_age_ms.push_back(static_cast<double>(buffer->recv_utime - m->utime) * 1e-3);
+  }
+};
+
+double percentile(std::vector<double> values, double p) {
+  if (values.empty()) return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[static_cast<std::size_t>(p * static_cast<double>(values.size() - 1))];
+}
+
+template <class Message>
+double rate_hz(const std::vector<Message>& messages) {
+  if (messages.size() < 2) return 0.0;
+  return static_cast<double>(messages.size() - 1) / ((messages.back().utime - messages.front().utime) * 1e-6);
+}
+
+Pose pose_of(const tumble::registration_t& m) {
+  return {{m.position_m[0], m.position_m[1], m.position_m[2]},
+          Eigen::Quaterniond(m.orientation[0], m.orientation[1], m.orientation[2], m.orientation[3])};
+}
+
+// Motion from a to b, seen from a.
+Pose relative(const Pose& a, const Pose& b) { return {a.q.conjugate() * (b.p - a.p), a.q.conjugate() * b.q}; }
+
+std::string line_after(const std::string& text, const std::string& key) {
+  const std::size_t at = text.find(key);
+  if (at == std::string::npos) return {};
+  const std::size_t start = at + key.size();
+  return text.substr(start, text.find('\n', start) - start);
+}
+
+TEST(LiveEndToEnd, SimulatorToTumbledToLcmSubscribersAndLogger) {
+  const fs::path dir = fs::path(TUMBLE_E2E_WORK_DIR);
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path log_file = TUMBLE_E2E_LCM_LOG;
+  fs::remove(log_file);
+
+  // The same run, written to files, for its ground truth.
+  const test::ProcessResult truth =
+      test::run_process({TUMBLE_SIM, "run", TUMBLE_E2E_SCENARIO, "--out", (dir / "truth").string()});
+  ASSERT_EQ(truth.exit_code, 0) << truth.err;
+
+  lcm::LCM lcm(kUrl);
+  ASSERT_TRUE(lcm.good()) << "LCM " << kUrl << " did not start: is multicast routed on lo?";
+  Received received;
+  lcm.subscribe("TUMBLE_ODOM", &Received::on_odometry, &received);
+  lcm.subscribe("TUMBLE_POSE", &Received::on_pose, &received);
+
+  Child logger({LCM_LOGGER, std::string("--lcm-url=") + kUrl, "-f", log_file.string()}, {}, dir / "lcm-logger");
+  Child sim({TUMBLE_SIM, "live", TUMBLE_E2E_SCENARIO, "--host", "127.0.0.1"}, {}, dir / "sim");
+  std::string pty;
+  for (const auto until = Clock::now() + std::chrono::seconds(10); pty.empty() && Clock::now() < until;) {
+    pty = line_after(sim.out(), "imu-pty ");
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_FALSE(pty.empty()) << sim.err();
+
+  test::NotifySocket systemd;
+  ASSERT_TRUE(systemd.bound());
+  Child tumbled({TUMBLED, "--lcm-url", kUrl, "--log-level", "info",
+                 "--set", "imu.device=" + pty, "--set", "imu.configure=false",
+                 "--set", "lidar.bind_address=127.0.0.1", "--set", "lidar.clock=synced",
+                 "--set", "lcm.publish_scan=true",
+                 "--set", "imu.extrinsic_T_LI.translation_m=[0.02, 0, -0.08]",
+                 "--trajectory-out", (dir / "live.tum").string()},
+                {"NOTIFY_SOCKET=" + systemd.path()}, dir / "tumbled");
+
+  bool ready = false;
+  while (sim.running()) {
+    lcm.handleTimeout(50);
+    // Reads every pending notification: an unread socket queue would block tumbled's sd_notify.
+    ready = systemd.wait_for("READY=1", 0).has_value() || ready;
+    ASSERT_TRUE(tumbled.running()) << tumbled.err();
+  }
+  for (const auto until = Clock::now() + std::chrono::seconds(2); Clock::now() < until;) lcm.handleTimeout(50);
+  tumbled.signal(SIGTERM);
+  const std::optional<int> tumbled_exit = tumbled.wait_for(5.0);
+  logger.signal(SIGINT);
+  const std::optional<int> logger_exit = logger.wait_for(5.0);
+
+  EXPECT_EQ(tumbled_exit, std::optional<int>(0)) << tumbled.err();
+  EXPECT_TRUE(logger_exit.has_value()) << logger.err();
+  EXPECT_TRUE(ready) << systemd.received();
+  std::fprintf(stderr, "sim: %s", sim.err().c_str());
+
+  // Rates over what was received, and nothing lost on the way.
+  ASSERT_GT(received.odometry.size(), 100u) << tumbled.err();
+  ASSERT_GT(received.poses.size(), 20u) << tumbled.err();
+  const double odom_hz = rate_hz(received.odometry), pose_hz = rate_hz(received.poses);
+  const auto odometry_sent = received.odometry.back().seq - received.odometry.front().seq + 1;
+  std::fprintf(stderr, "received TUMBLE_ODOM %zu at %.1f Hz (%lld sent), TUMBLE_POSE %zu registered at %.2f Hz\n",
+               received.odometry.size(), odom_hz, static_cast<long long>(odometry_sent), received.poses.size(),
+               pose_hz);
+  // Figures only (not asserted: shared machines are noisy): the sample's age
+  // includes the serial line and the IMU clock mapping; a scan's, its 0.1 s.
+  std::fprintf(stderr, "age on arrival: TUMBLE_ODOM p50 %.2f ms p99 %.2f ms; TUMBLE_POSE p50 %.1f ms p99 %.1f ms\n",
+               percentile(received.odometry_age_ms, 0.5), percentile(received.odometry_age_ms, 0.99),
+               percentile(received.pose_age_ms, 0.5), percentile(received.pose_age_ms, 0.99));
+  EXPECT_NEAR(odom_hz, kImuRate_hz, 0.05 * kImuRate_hz);
+  EXPECT_NEAR(pose_hz, kScanRate_hz, 0.1 * kScanRate_hz);
+  EXPECT_GE(static_cast<double>(received.odometry.size()), 0.99 * static_cast<double>(odometry_sent));
+
+  // The run starts and ends at rest: the motion first → last registered pose
+  // against the truth's first → last pose, per metre travelled.
+  const TumSpan gt = read_tum_span(dir / "truth" / "ground_truth.tum");
+  ASSERT_GT(gt.length_m, 5.0);
+  const Pose estimated = relative(pose_of(received.poses.front()), pose_of(received.poses.back()));
+  const Pose expected = relative(gt.first, gt.last);
+  const double translation_cm_per_m = 100.0 * (estimated.p - expected.p).norm() / gt.length_m;
+  const double rotation_deg_per_m =
+      Eigen::AngleAxisd(expected.q.conjugate() * estimated.q).angle() * 180.0 / M_PI / gt.length_m;
+  std::fprintf(stderr, "live final pose error: %.2f cm/m, %.3f deg/m over %.2f m\n", translation_cm_per_m,
+               rotation_deg_per_m, gt.length_m);
+  EXPECT_LT(translation_cm_per_m, kMaxDrift_cm_per_m) << tumbled.err();
+  EXPECT_LT(rotation_deg_per_m, kMaxDrift_deg_per_m) << tumbled.err();
+}
+
+}  // namespace
+}  // namespace tumble::e2e
