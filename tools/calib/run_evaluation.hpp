@@ -47,7 +47,8 @@ struct ScanRecord {
   double deskew_error_m = 0;
   std::size_t deskew_error_points = 0;
   bool registered = false;     // the registration accepted the scan (its pose corrected the fuser)
-  bool saturated = false;      // the IMU clipped during the scan (the fuser integrated clipped values)
+  bool saturated = false;      // the IMU clipped during the scan (imu_fuser.hpp, 6: a clipped gyro
+                               // axis takes the lidar's rate, a clipped accelerometer adds noise)
   bool before_motion = false;  // ended before the rig first moved (the run's initial rest)
 };
 
