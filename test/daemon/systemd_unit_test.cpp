@@ -9,6 +9,7 @@
 #include <string>
 
 #include "test/daemon/process.hpp"
+#include "test/temp_dir.hpp"
 
 namespace tumble::daemon {
 namespace {
@@ -33,17 +34,7 @@ std::string find_program(const std::string& name) {
   return {};
 }
 
-class TempDir {
- public:
-  TempDir() : path_(fs::temp_directory_path() / ("tumble_unit_" + std::to_string(::getpid()))) {
-    fs::create_directories(path_);
-  }
-  ~TempDir() { fs::remove_all(path_); }
-  const fs::path& path() const { return path_; }
-
- private:
-  fs::path path_;
-};
+using tumble::test::TempDir;
 
 TEST(SystemdUnit, HasTheAgreedSettings) {
   const std::string unit = read_file(kSource / "systemd/tumbled.service");

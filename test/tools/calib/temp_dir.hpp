@@ -1,32 +1,15 @@
-// A unique scratch folder under the system temp dir, removed with its content.
+// Scratch folders and file writing for the tumble-calib tests.
 #pragma once
 
 #include <filesystem>
 #include <fstream>
-#include <random>
 #include <string>
+
+#include "test/temp_dir.hpp"
 
 namespace tumble::calib::test {
 
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ =
-        std::filesystem::temp_directory_path() / ("tumble-calib-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using tumble::test::TempDir;
 
 inline void write_file(const std::filesystem::path& path, const std::string& text) {
   std::filesystem::create_directories(path.parent_path());

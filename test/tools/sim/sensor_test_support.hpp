@@ -9,31 +9,13 @@
 #include <random>
 #include <string>
 
+#include "test/temp_dir.hpp"
 #include "tools/sim/motion.hpp"
 #include "tools/sim/scenario.hpp"
 
 namespace tumble::sim::test {
 
-// A unique folder under the system temp dir, removed with everything in it.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device rd;
-    path_ = std::filesystem::temp_directory_path() /
-            ("tumble-sim-sensors-" + std::to_string(rd()) + "-" + std::to_string(rd()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+using tumble::test::TempDir;
 
 // Constant-rate spin about the world z axis at a fixed point.
 class SpinMotion final : public Motion {
