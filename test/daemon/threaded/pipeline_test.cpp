@@ -7,6 +7,7 @@
 #include <future>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
+#include <chrono>
 #include <thread>
 #include <vector>
 
@@ -196,7 +197,13 @@ TEST(Pipeline, AStuckThreadIsNotAlive) {
   pipeline.threads_alive();                // records the heartbeats
   EXPECT_FALSE(pipeline.threads_alive());  // the registration thread has not moved
   release.set_value();
-  while (!pipeline.threads_alive()) std::this_thread::yield();
+  // Idle threads beat every 50 ms: between two checks, each must have beaten.
+  bool alive = false;
+  for (int i = 0; i < 50 && !alive; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(150));
+    alive = pipeline.threads_alive();
+  }
+  EXPECT_TRUE(alive);
   pipeline.stop(Pipeline::Drain::No);
 }
 
