@@ -4,10 +4,10 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <chrono>
 #include <future>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
-#include <chrono>
 #include <thread>
 #include <vector>
 
