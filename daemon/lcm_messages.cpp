@@ -9,9 +9,10 @@ namespace tumble::daemon {
 
 std::int64_t to_utime(double t_s) { return std::llround(t_s * 1e6); }
 
-void to_lcm(const TrajectoryRecord& s, std::int64_t seq, tumble::odometry_t& out) {
+void to_lcm(const TrajectoryRecord& s, std::int64_t seq, float latency_ms, tumble::odometry_t& out) {
   out.utime = to_utime(s.t_s);
   out.seq = seq;
+  out.latency_ms = latency_ms;
   std::copy(s.p_w_m.begin(), s.p_w_m.end(), out.position_m);
   std::copy(s.q_wl_wxyz.begin(), s.q_wl_wxyz.end(), out.orientation);
   std::copy(s.v_w_m_s.begin(), s.v_w_m_s.end(), out.velocity_m_s);

@@ -15,7 +15,7 @@ namespace tumble::daemon {
 // LCM's utime: microseconds of the host clock.
 std::int64_t to_utime(double t_s);
 
-void to_lcm(const TrajectoryRecord& sample, std::int64_t seq, tumble::odometry_t& out);
+void to_lcm(const TrajectoryRecord& sample, std::int64_t seq, float latency_ms, tumble::odometry_t& out);
 
 // stage_names: RegistrationStage::stage_names(); latency_ms: scan complete -> publish.
 void to_lcm(const RegistrationRecord& registration, const std::vector<std::string>& stage_names, float latency_ms,

@@ -1,12 +1,27 @@
 #include "daemon/lcm_publisher.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
+#include <string>
 #include <utility>
 
 #include "daemon/lcm_messages.hpp"
 #include "daemon/thread_setup.hpp"
 
 namespace tumble::daemon {
+
+namespace {
+
+// Milliseconds from a steady-clock stamp to now; 0 for an unknown stamp (0).
+float latency_ms_since(std::int64_t steady_ns) {
+  if (steady_ns == 0) return 0.0f;
+  const auto now_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return static_cast<float>(static_cast<double>(now_ns - steady_ns) * 1e-6);
+}
+
+}  // namespace
 
 LcmChannels LcmChannels::with_prefix(const std::string& prefix) {
   return {prefix + "ODOM", prefix + "POSE", prefix + "STATUS", prefix + "SCAN"};
@@ -44,26 +59,38 @@ std::size_t LcmPublisher::publish_pending() {
   std::size_t count = 0;
   if (inputs_.odometry) {
     while (inputs_.odometry->pop_with([this](const TrajectoryRecord& sample) {
-      to_lcm(sample, odometry_seq_++, odometry_message_);
+      const float latency_ms = latency_ms_since(sample.imu_arrival_steady_ns);
+      to_lcm(sample, odometry_seq_++, latency_ms, odometry_message_);
       publish(kOdometry, odometry_message_);
+      if (sample.imu_arrival_steady_ns != 0) {
+        odometry_latency_period_.add(latency_ms);
+        odometry_latency_run_.add(latency_ms);
+      }
     }))
       ++count;
   }
   if (inputs_.registrations) {
     while (inputs_.registrations->pop_with([this](const RegistrationRecord& r) {
-      const auto now_ns =
-          std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-              .count();
-      const float latency_ms =
-          r.scan_complete_steady_ns != 0 ? static_cast<float>((now_ns - r.scan_complete_steady_ns) * 1e-6) : 0.0f;
+      const float latency_ms = latency_ms_since(r.scan_complete_steady_ns);
       to_lcm(r, stage_names_, latency_ms, registration_message_);
       publish(kPose, registration_message_);
+      if (r.scan_complete_steady_ns != 0) {
+        pose_latency_period_.add(latency_ms);
+        pose_latency_run_.add(latency_ms);
+      }
       for (RegistrationObserver* observer : observers_) observer->on_registration(r);
     }))
       ++count;
   }
   if (inputs_.status) {
-    if (const tumble::status_t* status = inputs_.status->take()) {
+    if (tumble::status_t* status = inputs_.status->take()) {
+      status->odometry_latency_p50_ms = static_cast<float>(odometry_latency_period_.percentile_ms(0.5));
+      status->odometry_latency_p99_ms = static_cast<float>(odometry_latency_period_.percentile_ms(0.99));
+      status->odometry_latency_max_ms = static_cast<float>(odometry_latency_period_.max_ms());
+      status->pose_latency_p50_ms = static_cast<float>(pose_latency_period_.percentile_ms(0.5));
+      status->pose_latency_max_ms = static_cast<float>(pose_latency_period_.max_ms());
+      odometry_latency_period_.reset();
+      pose_latency_period_.reset();
       publish(kStatus, *status);
       ++count;
     }
@@ -83,13 +110,17 @@ bool LcmPublisher::has_pending() const {
          (inputs_.scans && inputs_.scans->has_new());
 }
 
-void LcmPublisher::start() {
+void LcmPublisher::start(int realtime_priority) {
   stopping_.store(false, std::memory_order_relaxed);
-  thread_ = std::thread([this] { run(); });
+  thread_ = std::thread([this, realtime_priority] {
+    name_this_thread("tumble-publish");
+    if (const std::string error = set_realtime_priority(realtime_priority); !error.empty())
+      spdlog::warn("tumble-publish: {}", error);
+    run();
+  });
 }
 
 void LcmPublisher::run() {
-  name_this_thread("tumble-publish");
   while (!stopping_.load(std::memory_order_acquire)) {
     if (publish_pending() == 0) {
       wakeup_.wait(std::chrono::milliseconds(50),

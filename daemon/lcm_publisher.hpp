@@ -12,6 +12,7 @@
 #include <thread>
 #include <vector>
 
+#include "daemon/latency_histogram.hpp"
 #include "daemon/mailbox.hpp"
 #include "daemon/rate_limited_log.hpp"
 #include "daemon/records.hpp"
@@ -64,12 +65,17 @@ class LcmPublisher {
   // or a test without one). Returns the number of messages published.
   std::size_t publish_pending();
 
-  void start();
+  // realtime_priority: as daemon.realtime_priority (0: normal scheduling).
+  void start(int realtime_priority = 0);
   // Publishes what is still waiting, then joins the thread.
   void stop();
 
   std::uint64_t published(Channel c) const { return published_[c].load(std::memory_order_relaxed); }
   std::uint64_t failed(Channel c) const { return failed_[c].load(std::memory_order_relaxed); }
+  // Input arrived -> message handed to LCM, over the whole run: read them
+  // once stop() returned (the publish thread writes them).
+  const LatencyHistogram& odometry_latency() const { return odometry_latency_run_; }
+  const LatencyHistogram& pose_latency() const { return pose_latency_run_; }
   // Advances at least every 100 ms while the publish thread is alive.
   std::uint64_t heartbeat() const { return heartbeat_.load(std::memory_order_relaxed); }
 
@@ -89,6 +95,9 @@ class LcmPublisher {
   tumble::registration_t registration_message_{};
   std::vector<std::uint8_t> buffer_;
   std::int64_t odometry_seq_ = 0;
+  // Per status period (reported in status_t, then reset) and per run.
+  LatencyHistogram odometry_latency_period_, odometry_latency_run_;
+  LatencyHistogram pose_latency_period_, pose_latency_run_;
   RateLimitedLog warnings_{3, 10.0};  // per channel: a dead network must not flood the log
 
   std::array<std::atomic<std::uint64_t>, kChannelCount> published_{};

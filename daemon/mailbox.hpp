@@ -30,9 +30,9 @@ class Mailbox {
     published_.fetch_add(1, std::memory_order_relaxed);
   }
 
-  // Reader: the newest value not taken yet, or nullptr. The pointer stays
-  // valid (and unchanged) until the reader's next take().
-  const T* take() {
+  // Reader: the newest value not taken yet, or nullptr. The value is the
+  // reader's (it may complete it) until its next take().
+  T* take() {
     if (!(middle_.load(std::memory_order_relaxed) & kFresh)) return nullptr;
     const std::uint8_t previous = middle_.exchange(taken_, std::memory_order_acq_rel);
     taken_ = previous & kIndexMask;

@@ -30,6 +30,7 @@ Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy)
     : policy_(policy),
       publish_scan_(config.lcm.publish_scan),
       realtime_priority_(config.daemon.realtime_priority),
+      registration_nice_(config.daemon.registration_nice),
       trajectory_wait_ns_(std::llround(config.daemon.trajectory_wait_s * 1e9)),
       imu_(capacity(config.daemon.imu_ring_capacity)),
       lidar_(capacity(config.daemon.lidar_ring_capacity)),
@@ -69,13 +70,14 @@ void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
   wake_main_ = std::move(wake_main);
   imu_input_ended_.store(!parts_.imu_source, std::memory_order_release);
 
-  if (parts_.fuser) start_thread(fuser_thread_, "tumble-fuser", &Pipeline::run_fuser);
-  if (parts_.registration) start_thread(registration_thread_, "tumble-register", &Pipeline::run_registration);
+  if (parts_.fuser) start_thread(fuser_thread_, "tumble-fuser", &Pipeline::run_fuser, Priority::ImuPath);
+  if (parts_.registration)
+    start_thread(registration_thread_, "tumble-register", &Pipeline::run_registration, Priority::Background);
   if (!parts_.lidar_source && !parts_.imu_source) return;
 
   emit_imu_ = [this](const ImuSample& sample) {
     wait_for_room(imu_, &io_blocked_on_imu_);
-    imu_.push(sample);
+    imu_.push(ImuArrival{sample, imu_bytes_steady_ns_});
     fuser_wakeup_.notify();
   };
   republish_ = [this](const TrajectoryRecord& record) { trajectory_.publish(record); };
@@ -103,14 +105,15 @@ void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
                                });
     }
   });
-  start_thread(io_thread_, "tumble-io", &Pipeline::run_io);
+  start_thread(io_thread_, "tumble-io", &Pipeline::run_io, Priority::ImuPath);
 }
 
-void Pipeline::start_thread(std::thread& thread, const char* name, void (Pipeline::*body)()) {
-  thread = std::thread([this, name, body] {
+void Pipeline::start_thread(std::thread& thread, const char* name, void (Pipeline::*body)(), Priority priority) {
+  thread = std::thread([this, name, body, priority] {
     name_this_thread(name);
-    if (const std::string error = set_realtime_priority(realtime_priority_); !error.empty())
-      spdlog::warn("{}: {}", name, error);
+    const std::string error = priority == Priority::ImuPath ? set_realtime_priority(realtime_priority_)
+                                                            : lower_this_thread_priority(registration_nice_);
+    if (!error.empty()) spdlog::warn("{}: {}", name, error);
     try {
       (this->*body)();
     } catch (const std::exception& e) {
@@ -168,7 +171,8 @@ void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
 }
 
 void Pipeline::on_imu_bytes(const ImuBytes& bytes) {
-  counters_.last_imu_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
+  imu_bytes_steady_ns_ = steady_now_ns();
+  counters_.last_imu_steady_ns.store(imu_bytes_steady_ns_, std::memory_order_relaxed);
   if (parts_.recorder) parts_.recorder->record_imu(bytes);
   parts_.imu_decoder->decode(bytes, emit_imu_);
   parts_.imu_decoder->report(counters_);
@@ -198,7 +202,8 @@ bool Pipeline::fuser_may_add(double t_s, double previous_t_s) const {
 
 void Pipeline::run_fuser() {
   FuserStage& fuser = *parts_.fuser;
-  ImuSample sample;
+  ImuArrival arrival;
+  const ImuSample& sample = arrival.sample;
   bool have_sample = false;
   double previous_t_s = -std::numeric_limits<double>::infinity();
   RegistrationRecord correction;
@@ -214,7 +219,7 @@ void Pipeline::run_fuser() {
       registration_wakeup_.notify();
       worked = true;
     }
-    if (!have_sample) have_sample = imu_.pop(sample);
+    if (!have_sample) have_sample = imu_.pop(arrival);
     if (have_sample && fuser_may_add(sample.t_s, previous_t_s)) {
       have_sample = false;
       worked = true;
@@ -227,6 +232,7 @@ void Pipeline::run_fuser() {
       fuser_time_s_.store(sample.t_s, std::memory_order_release);
       counters_.fuser_initialised.store(extended, std::memory_order_relaxed);
       if (extended) {
+        fused.imu_arrival_steady_ns = arrival.arrival_steady_ns;
         trajectory_.publish(fused);
         push(odometry_, fused);
         output_wakeup_.notify();

@@ -119,12 +119,17 @@ class Pipeline {
   std::optional<double> newest_trajectory_time() const;
   bool trajectory_may_still_come(std::int64_t scan_complete_steady_ns) const;
   void register_scan(std::int64_t scan_complete_steady_ns);
-  void start_thread(std::thread& thread, const char* name, void (Pipeline::*body)());
+  enum class Priority {
+    ImuPath,     // daemon.realtime_priority
+    Background,  // daemon.registration_nice
+  };
+  void start_thread(std::thread& thread, const char* name, void (Pipeline::*body)(), Priority priority);
   void beat_io();
 
   const OverflowPolicy policy_;
   const bool publish_scan_;
   const int realtime_priority_;
+  const int registration_nice_;
   const std::int64_t trajectory_wait_ns_;
 
   // Before parts_: sources built on the io_context must be destroyed before it.
@@ -132,7 +137,7 @@ class Pipeline {
   PipelineParts parts_;
   PipelineCounters counters_;
 
-  SpscRing<ImuSample> imu_;
+  SpscRing<ImuArrival> imu_;
   SpscRing<PointBlock> lidar_;
   SpscRing<RegistrationRecord> corrections_;
   SpscRing<TrajectoryRecord> odometry_;
@@ -149,6 +154,7 @@ class Pipeline {
   // io thread
   std::optional<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>> io_work_;
   std::function<void(const ImuSample&)> emit_imu_;
+  std::int64_t imu_bytes_steady_ns_ = 0;  // io thread: when the bytes being decoded arrived
   std::optional<boost::asio::steady_timer> io_heartbeat_timer_;
   int sources_running_ = 0;
   std::atomic<bool> imu_input_ended_{false};

@@ -16,6 +16,13 @@ namespace tumble::daemon {
 // azimuths the registration thread's scan assembly splits on.
 using PointBlock = rs16::DecodedPacket;
 
+// One decoded IMU sample and when the io thread received the bytes that
+// completed it (steady clock), for the arrival -> TUMBLE_ODOM latency.
+struct ImuArrival {
+  ImuSample sample;
+  std::int64_t arrival_steady_ns = 0;
+};
+
 // One fused trajectory sample at IMU rate: the lidar pose T_WL(t) and its motion.
 // Trivially copyable, as the seqlock trajectory buffer requires.
 struct TrajectoryRecord {
@@ -30,6 +37,7 @@ struct TrajectoryRecord {
   std::uint8_t accel_saturated_axes = 0;
   bool lidar_corrected = false;       // the velocity already includes a registered scan
   bool attitude_from_device = false;  // orientation is the IMU's own estimate, not Madgwick's
+  std::int64_t imu_arrival_steady_ns = 0;  // ImuArrival::arrival_steady_ns of the sample; 0: unknown
 };
 
 using tumble::WeightModel;

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
@@ -77,9 +79,14 @@ TEST_F(LcmPublisherTest, OdometryDecodesWithItsContent) {
   sample.velocity_var_m2_s2 = {0.4, 0.5, 0.6};
   sample.gyro_saturated_axes = 0b100;
   sample.lidar_corrected = true;
+  // The sample's bytes arrived 3 ms ago.
+  sample.imu_arrival_steady_ns =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+      3'000'000;
   odometry_.push(sample);
   sample.t_s += 0.01;
   sample.gyro_saturated_axes = 0;
+  sample.imu_arrival_steady_ns = 0;  // unknown
   odometry_.push(sample);
   EXPECT_EQ(publisher.publish_pending(), 2u);
   deliver();
@@ -100,6 +107,9 @@ TEST_F(LcmPublisherTest, OdometryDecodesWithItsContent) {
                              static_cast<int>(tumble::odometry_t::FLAG_GYRO_SATURATED);
   EXPECT_EQ(m.flags, expected_flags);
   EXPECT_EQ(odometry_inbox_.messages[1].flags & tumble::odometry_t::FLAG_GYRO_SATURATED, 0);
+  EXPECT_GE(m.latency_ms, 3.0f);
+  EXPECT_LT(m.latency_ms, 60'000.0f);
+  EXPECT_EQ(odometry_inbox_.messages[1].latency_ms, 0.0f);
   EXPECT_EQ(publisher.published(LcmPublisher::kOdometry), 2u);
   EXPECT_EQ(publisher.failed(LcmPublisher::kOdometry), 0u);
 }
@@ -145,6 +155,43 @@ TEST_F(LcmPublisherTest, RegistrationDecodesWithItsContentAndReachesObservers) {
   EXPECT_EQ(m.stage_name, (std::vector<std::string>{"deskew", "weights", "icp"}));
   EXPECT_EQ(m.stage_ms, (std::vector<float>{1.5f, 2.5f, 30.0f}));
   EXPECT_EQ(observer.indices, (std::vector<std::int64_t>{42}));
+}
+
+std::int64_t steady_ns_ago(double ms) {
+  const auto now =
+      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  return now - static_cast<std::int64_t>(ms * 1e6);
+}
+
+TEST_F(LcmPublisherTest, StatusCarriesThePeriodsLatenciesAndTheRunKeepsThemAll) {
+  LcmPublisher publisher(lcm_, LcmChannels::with_prefix("TEST_"), inputs(), {}, wakeup_);
+  TrajectoryRecord sample;
+  for (int i = 0; i < 4; ++i) {
+    sample.t_s = i;
+    sample.imu_arrival_steady_ns = steady_ns_ago(i == 3 ? 500.0 : 2.0);
+    odometry_.push(sample);
+  }
+  RegistrationRecord scan;
+  scan.scan_complete_steady_ns = steady_ns_ago(40.0);
+  registrations_.push(scan);
+  status_.draft().num_stages = 0;
+  status_.publish();
+  publisher.publish_pending();
+  status_.publish();  // the next period: nothing published in it
+  publisher.publish_pending();
+  deliver();
+  ASSERT_EQ(status_inbox_.messages.size(), 2u);
+  const tumble::status_t& first = status_inbox_.messages[0];
+  EXPECT_GE(first.odometry_latency_p50_ms, 2.0f);
+  EXPECT_LT(first.odometry_latency_p50_ms, 400.0f);
+  EXPECT_GE(first.odometry_latency_max_ms, 500.0f);
+  EXPECT_GE(first.odometry_latency_p99_ms, 500.0f);  // 1 of 4 is above the 99th percentile's rank
+  EXPECT_GE(first.pose_latency_p50_ms, 40.0f);
+  EXPECT_GE(first.pose_latency_max_ms, 40.0f);
+  EXPECT_TRUE(std::isnan(status_inbox_.messages[1].odometry_latency_p50_ms));
+  EXPECT_TRUE(std::isnan(status_inbox_.messages[1].pose_latency_max_ms));
+  EXPECT_EQ(publisher.odometry_latency().count(), 4u);
+  EXPECT_EQ(publisher.pose_latency().count(), 1u);
 }
 
 TEST_F(LcmPublisherTest, StatusAndScanDecodeWithTheirContent) {
@@ -219,7 +266,7 @@ TEST_F(LcmPublisherTest, SteadyStateOdometryPublishingDoesNotAllocateInTheDaemon
     sample.t_s = i;
     odometry_.push(sample);
     odometry_.pop_with([&](const TrajectoryRecord& s) {
-      to_lcm(s, i, message);
+      to_lcm(s, i, 0.5f, message);
       message.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
     });
   }

@@ -41,7 +41,7 @@ TEST(SystemdUnit, HasTheAgreedSettings) {
   for (const char* line :
        {"Type=notify", "NotifyAccess=main", "WatchdogSec=", "Restart=on-failure", "User=tumble", "NoNewPrivileges=yes",
         "ProtectSystem=strict", "ProtectHome=yes", "PrivateTmp=yes", "DevicePolicy=closed",
-        "DeviceAllow=", "ReadWritePaths=/var/lib/tumble", "RestartPreventExitStatus=2",
+        "DeviceAllow=", "ReadWritePaths=/var/lib/tumble", "RestartPreventExitStatus=2", "LimitRTPRIO=20",
         "ExecStart=/usr/bin/tumbled --config /etc/tumble/tumbled.yaml"}) {
     EXPECT_NE(unit.find(std::string("\n") + line), std::string::npos) << line;
   }
