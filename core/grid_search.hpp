@@ -73,19 +73,28 @@ struct Neighbour {
 
 // The k closest candidates offered so far, kept in storage the caller owns
 // (so a search never allocates); sorted by distance once finish() is called.
-// Candidates at or beyond max_distance are refused. Small k keeps the list
-// sorted by insertion; large k (the normals' line retries, k = 80) keeps a
-// max-heap, where insertion would shift half the list per candidate.
+// Candidates at or beyond max_distance are refused. k = 0 means
+// storage.size(). Small k keeps the list sorted by insertion. Large k (the
+// normals' line retries, k = 80, where insertion would shift half the list per
+// candidate) collects candidates unsorted when the storage holds 2k of them,
+// and keeps the k nearest (nth_element) whenever it fills: O(1) per candidate;
+// with less storage it keeps a max-heap, O(log k).
 class KnnResult {
  public:
-  KnnResult(std::span<Neighbour> storage, double max_distance_m)
-      : storage_(storage),
-        bound_sq_(storage.empty() ? 0.0 : max_distance_m * max_distance_m),
-        heap_(storage.size() > kMaxInsertionK) {}
+  KnnResult(std::span<Neighbour> storage, double max_distance_m, std::size_t k = 0)
+      : k_(k == 0 ? storage.size() : std::min(k, storage.size())),
+        storage_(storage.first(k_ > kMaxInsertionK && storage.size() >= 2 * k_ ? 2 * k_ : k_)),
+        bound_sq_(k_ == 0 ? 0.0 : max_distance_m * max_distance_m),
+        mode_(k_ <= kMaxInsertionK ? Mode::Insertion : storage_.size() > k_ ? Mode::Collect : Mode::Heap) {}
 
   void offer(double distance_sq, std::uint32_t index) {
     if (distance_sq >= bound_sq_) return;
-    if (heap_) {
+    if (mode_ == Mode::Collect) {
+      storage_[size_++] = Neighbour{distance_sq, index};
+      if (size_ == storage_.size()) keep_k_nearest();
+      return;
+    }
+    if (mode_ == Mode::Heap) {
       offer_heap(Neighbour{distance_sq, index});
       return;
     }
@@ -103,12 +112,27 @@ class KnnResult {
   std::size_t size() const { return size_; }
   // Sorts the kept neighbours, nearest first; returns how many.
   std::size_t finish() {
-    if (heap_) std::sort_heap(storage_.begin(), storage_.begin() + static_cast<std::ptrdiff_t>(size_), farther);
+    const auto begin = storage_.begin();
+    if (mode_ == Mode::Heap) std::sort_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    if (mode_ == Mode::Collect) {
+      if (size_ > k_) keep_k_nearest();
+      std::sort(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    }
     return size_;
   }
 
  private:
   static constexpr std::size_t kMaxInsertionK = 16;
+  enum class Mode { Insertion, Collect, Heap };
+  // Collect: the k nearest of the candidates so far move to the front; none
+  // beyond the k-th can be kept from now on.
+  void keep_k_nearest() {
+    const auto begin = storage_.begin();
+    const auto kth = begin + static_cast<std::ptrdiff_t>(k_ - 1);
+    std::nth_element(begin, kth, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    size_ = k_;
+    bound_sq_ = kth->distance_sq;
+  }
   static bool farther(const Neighbour& a, const Neighbour& b) { return a.distance_sq < b.distance_sq; }
   void offer_heap(const Neighbour& n) {
     const auto begin = storage_.begin();
@@ -123,10 +147,11 @@ class KnnResult {
     if (size_ == storage_.size()) bound_sq_ = storage_.front().distance_sq;
   }
 
+  std::size_t k_;
   std::span<Neighbour> storage_;
-  double bound_sq_;  // max distance² until full, then the k-th distance²
+  double bound_sq_;  // max distance² until k are kept, then the k-th distance² (Collect: at the last compaction)
   std::size_t size_ = 0;
-  bool heap_;
+  Mode mode_;
 };
 
 // The 26 cells around a cell: faces, edges, corners.

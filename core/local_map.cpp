@@ -18,7 +18,7 @@ LocalMap::LocalMap(const LocalMapParams& params)
   if (!(params.radius_m > 0)) throw std::invalid_argument("map radius_m must be > 0");
   if (params.min_point_distance_m < 0) throw std::invalid_argument("map min_point_distance_m must be >= 0");
   if (params.normals.k < 3) throw std::invalid_argument("map normals.k must be >= 3");
-  neighbours_.reserve(static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
+  neighbours_.reserve(2 * static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
 }
 
 void LocalMap::clear() {
@@ -126,7 +126,9 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
     MapPoint& mp = points_[index];
     const PlaneFit fit = NormalEstimator::fit_neighbourhood(
         mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_,
-        [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out) { return knn(q, radius, out); },
+        [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
+          return knn(q, radius, out, k);
+        },
         [&](std::uint32_t i) -> const Eigen::Vector3d& { return positions_[i]; },
         [&](std::uint32_t i) { return points_[i].line_id; });
     mp.normal_w = fit.normal;
@@ -158,9 +160,10 @@ std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {
   return removed;
 }
 
-std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage) const {
+std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
+                          std::size_t k) const {
   if (storage.empty()) return 0;
-  KnnResult result(storage, max_distance_m);
+  KnnResult result(storage, max_distance_m, k);
   grid_knn_search(q_w, params_.voxel_size_m, result, [&](const CellKey& key, KnnResult& res) {
     if (!occupancy_.maybe_occupied(key)) return;
     const auto it = cell_slot_.find(key);

@@ -73,9 +73,11 @@ class LocalMap {
   // Drops every voxel whose centre is farther than radius_m from centre_w.
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
 
-  // The up to storage.size() nearest map points of q_w within max_distance_m,
-  // nearest first; returns how many. Resolve an index with point().
-  std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage) const;
+  // The up to k (0: storage.size()) nearest map points of q_w within
+  // max_distance_m, nearest first, at the front of storage; returns how many.
+  // Resolve an index with point(). Storage for 2k is faster for large k.
+  std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
+                  std::size_t k = 0) const;
   const MapPoint& point(std::uint32_t index) const { return points_[index]; }
   // point(index).p_w, from the compact array the searches scan.
   const Eigen::Vector3d& position(std::uint32_t index) const { return positions_[index]; }

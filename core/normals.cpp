@@ -42,13 +42,15 @@ PlaneFit CovarianceAccumulator::fit(const Eigen::Vector3d& viewpoint, const Norm
 NormalEstimator::NormalEstimator(const NormalParams& params) : params_(params) {
   if (params.k < 3) throw std::invalid_argument("normal k must be >= 3, got " + std::to_string(params.k));
   if (!(params.max_radius_m > 0)) throw std::invalid_argument("normal max_radius_m must be > 0");
-  neighbours_.reserve(static_cast<std::size_t>(std::max(params.k, params.line_retry_k)));
+  neighbours_.reserve(2 * static_cast<std::size_t>(std::max(params.k, params.line_retry_k)));
 }
 
 void NormalEstimator::index(const PointCloud& cloud) { grid_.build(cloud.points, params_.grid_cell_m); }
 
 void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i) {
-  auto knn = [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out) { return grid_.knn(q, radius, out); };
+  auto knn = [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
+    return grid_.knn(q, radius, out, k);
+  };
   auto position = [&](std::uint32_t index) -> const Eigen::Vector3d& { return cloud.points[index]; };
   auto line = [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; };
   const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, neighbours_, knn, position, line);

@@ -81,7 +81,8 @@ class NormalEstimator {
   explicit NormalEstimator(const NormalParams& params = {});
 
   // The plane through the up to `k` (or line_retry_k) nearest neighbours of
-  // query found by knn(query, max_radius, span) -> count, indices resolved by
+  // query found by knn(query, max_radius, storage, k) -> count (storage holds
+  // 2k, for the faster search of large k), indices resolved by
   // position(index) and line(index) (the scan line of that neighbour; the
   // query's is query_line). Shared by the reading and the map.
   template <class Knn, class Position, class Line>
@@ -89,8 +90,8 @@ class NormalEstimator {
                                     const Eigen::Vector3d& viewpoint, const NormalParams& params,
                                     std::vector<Neighbour>& buffer, Knn&& knn, Position&& position, Line&& line) {
     auto fit_k = [&](int k) {
-      buffer.resize(static_cast<std::size_t>(k));
-      const std::size_t found = knn(query, params.max_radius_m, std::span<Neighbour>(buffer));
+      buffer.resize(2 * static_cast<std::size_t>(k));
+      const std::size_t found = knn(query, params.max_radius_m, std::span<Neighbour>(buffer), static_cast<std::size_t>(k));
       CovarianceAccumulator acc(query);
       int other_lines = 0;
       for (std::size_t j = 0; j < found; ++j) {

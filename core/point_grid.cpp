@@ -38,9 +38,10 @@ void PointGrid::build(std::span<const Eigen::Vector3d> points, double cell_size_
   }
 }
 
-std::size_t PointGrid::knn(const Eigen::Vector3d& q, double max_distance_m, std::span<Neighbour> storage) const {
+std::size_t PointGrid::knn(const Eigen::Vector3d& q, double max_distance_m, std::span<Neighbour> storage,
+                           std::size_t k) const {
   if (storage.empty()) return 0;
-  KnnResult result(storage, max_distance_m);
+  KnnResult result(storage, max_distance_m, k);
   grid_knn_search(q, cell_size_m_, result, [&](const CellKey& key, KnnResult& res) {
     if (!occupancy_.maybe_occupied(key)) return;
     const auto it = cell_slot_.find(key);

@@ -101,12 +101,13 @@ TEST(LocalMap, KnnMatchesBruteForce) {
   std::vector<Eigen::Vector3d> pts(test::full_or_coarse(3000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
   ASSERT_EQ(map.insert(cloud_of(pts), Eigen::Isometry3d::Identity()).inserted, pts.size());
-  std::vector<Neighbour> out(40);
+  std::vector<Neighbour> out(80);
   for (int q = 0; q < test::full_or_coarse(300, 60); ++q) {
     const Eigen::Vector3d query(u(rng) * 1.5, u(rng) * 1.5, u(rng) * 1.5);
-    for (const std::size_t k : {std::size_t{1}, std::size_t{8}, std::size_t{40}}) {  // 40: the heap
+    // 40 in storage for 40: the heap; in storage for 80: collect and select.
+    for (const auto& [k, storage] : {std::pair<std::size_t, std::size_t>{1, 1}, {8, 8}, {40, 40}, {40, 80}}) {
       const double radius = k == 40 ? 0.5 : 0.25;
-      const std::size_t found = map.knn(query, radius, std::span<Neighbour>(out.data(), k));
+      const std::size_t found = map.knn(query, radius, std::span<Neighbour>(out.data(), storage), k);
       std::vector<double> brute;
       for (const auto& p : pts)
         if ((p - query).squaredNorm() < radius * radius) brute.push_back((p - query).squaredNorm());

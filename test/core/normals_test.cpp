@@ -168,17 +168,19 @@ TEST(PointGrid, KnnMatchesBruteForce) {
   PointGrid grid;
   grid.build(pts, 0.3);
   for (int q = 0; q < test::full_or_coarse(300, 60); ++q) {
-    std::vector<Neighbour> out(q % 3 ? 12 : 80);  // 80: the heap of large k
+    // k = 12: insertion; k = 80 in storage for 80: the heap; in storage for 160: collect and select.
+    const std::size_t k = q % 3 == 0 ? 12 : 80;
+    std::vector<Neighbour> out(q % 3 == 2 ? 160 : k);
     const Eigen::Vector3d query(u(rng), u(rng), u(rng));
     const double radius = q % 2 ? 0.7 : 10.0;
-    const std::size_t found = grid.knn(query, radius, out);
+    const std::size_t found = grid.knn(query, radius, out, k);
     std::vector<std::pair<double, std::uint32_t>> brute;
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const double d2 = (pts[i] - query).squaredNorm();
       if (d2 < radius * radius) brute.emplace_back(d2, static_cast<std::uint32_t>(i));
     }
     std::sort(brute.begin(), brute.end());
-    ASSERT_EQ(found, std::min<std::size_t>(brute.size(), out.size()));
+    ASSERT_EQ(found, std::min<std::size_t>(brute.size(), k));
     for (std::size_t k = 0; k < found; ++k) {
       EXPECT_DOUBLE_EQ(out[k].distance_sq, brute[k].first);
       EXPECT_EQ(out[k].index, brute[k].second);
