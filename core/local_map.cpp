@@ -21,9 +21,29 @@ LocalMap::LocalMap(const LocalMapParams& params)
   neighbours_.reserve(2 * static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
 }
 
+std::uint32_t LocalMap::new_chunk() {
+  if (!free_chunks_.empty()) {
+    const std::uint32_t c = free_chunks_.back();
+    free_chunks_.pop_back();
+    chunk(c).next = kNoChunk;
+    return c;
+  }
+  // A new block: its chunks but the first go to the free list, last out first.
+  const auto first = static_cast<std::uint32_t>(blocks_.size() * kBlockChunks);
+  blocks_.push_back(std::make_unique<ChunkBlock>());
+  for (std::uint32_t c = first + kBlockChunks - 1; c > first; --c) free_chunks_.push_back(c);
+  return first;
+}
+
+void LocalMap::release(Slot& slot) {
+  for (std::uint32_t c = slot.first_chunk; c != kNoChunk; c = chunk(c).next) free_chunks_.push_back(c);
+  slot.count = 0;
+  slot.first_chunk = slot.last_chunk = kNoChunk;
+}
+
 void LocalMap::clear() {
   for (const auto& [key, slot] : cell_slot_) {
-    slots_[slot].count = 0;
+    release(slots_[slot]);
     free_slots_.push_back(slot);
   }
   cell_slot_.clear();
@@ -48,11 +68,11 @@ bool LocalMap::has_point_within(const Eigen::Vector3d& q_w, double distance_m) c
         if (!occupancy_.maybe_occupied(key)) continue;
         const auto it = cell_slot_.find(key);
         if (it == cell_slot_.end()) continue;
-        const std::size_t base = static_cast<std::size_t>(it->second) * cap_;
-        const Eigen::Vector3d* p = positions_.data() + base;
-        for (std::uint32_t j = 0; j < slots_[it->second].count; ++j) {
-          if ((p[j] - q_w).squaredNorm() < d2) return true;
-        }
+        bool found = false;
+        for_each_chunk(slots_[it->second], [&](const Chunk& chunk, std::uint32_t, std::uint32_t n) {
+          for (std::uint32_t j = 0; j < n && !found; ++j) found = (chunk.positions[j] - q_w).squaredNorm() < d2;
+        });
+        if (found) return true;
       }
     }
   }
@@ -79,10 +99,8 @@ std::uint32_t LocalMap::slot_for(const CellKey& key) {
   } else {
     slot = static_cast<std::uint32_t>(slots_.size());
     slots_.emplace_back();
-    positions_.resize(positions_.size() + cap_);
-    points_.resize(points_.size() + cap_);
   }
-  slots_[slot] = Slot{key, 0};
+  slots_[slot] = Slot{key};
   cell_slot_.emplace(key, slot);
   occupancy_.add(key);
   return slot;
@@ -108,29 +126,39 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
       ++stats.rejected_voxel_full;
       continue;
     }
-    const std::uint32_t index = slot * cap_ + voxel.count++;
-    MapPoint& mp = points_[index];
+    if (voxel.count % kChunkPoints == 0) {
+      const std::uint32_t c = new_chunk();  // may move nothing: `voxel` stays valid
+      if (voxel.first_chunk == kNoChunk) {
+        voxel.first_chunk = c;
+      } else {
+        chunk(voxel.last_chunk).next = c;
+      }
+      voxel.last_chunk = c;
+    }
+    const std::uint32_t j = voxel.count++ % kChunkPoints;
+    Chunk& last = chunk(voxel.last_chunk);
+    MapPoint& mp = last.points[j];
     mp = MapPoint{};
     mp.p_w = p_w;
     mp.sigma_n_m = cloud.sigma_n_m[i];
     mp.sigma_s_m = cloud.sigma_s_m[i];
     mp.line_id = line_base | cloud.rings[i];
-    positions_[index] = p_w;
-    new_points_.push_back(index);
+    last.positions[j] = p_w;
+    new_points_.push_back(voxel.last_chunk * kChunkPoints + j);
     ++stats.inserted;
   }
   point_count_ += stats.inserted;
 
   const Eigen::Vector3d sensor_w = T_wl.translation();
   for (const std::uint32_t index : new_points_) {
-    MapPoint& mp = points_[index];
+    MapPoint& mp = chunk(index / kChunkPoints).points[index % kChunkPoints];
     const PlaneFit fit = NormalEstimator::fit_neighbourhood(
         mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_,
         [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
           return knn(q, radius, out, k);
         },
-        [&](std::uint32_t i) -> const Eigen::Vector3d& { return positions_[i]; },
-        [&](std::uint32_t i) { return points_[i].line_id; });
+        [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
+        [&](std::uint32_t i) { return point(i).line_id; });
     mp.normal_w = fit.normal;
     mp.curvature = fit.curvature;
     mp.normal_valid = fit.valid;
@@ -151,7 +179,7 @@ std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {
     const auto it = cell_slot_.find(key);
     const std::uint32_t slot = it->second;
     removed += slots_[slot].count;
-    slots_[slot].count = 0;
+    release(slots_[slot]);
     free_slots_.push_back(slot);
     cell_slot_.erase(it);
     occupancy_.remove(key);
@@ -168,10 +196,9 @@ std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std
     if (!occupancy_.maybe_occupied(key)) return;
     const auto it = cell_slot_.find(key);
     if (it == cell_slot_.end()) return;
-    const std::uint32_t base = it->second * cap_;
-    const Eigen::Vector3d* p = positions_.data() + base;
-    const std::uint32_t count = slots_[it->second].count;
-    for (std::uint32_t j = 0; j < count; ++j) res.offer((p[j] - q_w).squaredNorm(), base + j);
+    for_each_chunk(slots_[it->second], [&](const Chunk& chunk, std::uint32_t base, std::uint32_t n) {
+      for (std::uint32_t j = 0; j < n; ++j) res.offer((chunk.positions[j] - q_w).squaredNorm(), base + j);
+    });
   });
   return result.finish();
 }

@@ -8,7 +8,10 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <algorithm>
+#include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -78,12 +81,12 @@ class LocalMap {
   // Resolve an index with point(). Storage for 2k is faster for large k.
   std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
                   std::size_t k = 0) const;
-  const MapPoint& point(std::uint32_t index) const { return points_[index]; }
-  // point(index).p_w, from the compact array the searches scan.
-  const Eigen::Vector3d& position(std::uint32_t index) const { return positions_[index]; }
+  const MapPoint& point(std::uint32_t index) const { return chunk(index / kChunkPoints).points[index % kChunkPoints]; }
 
   std::size_t size() const { return point_count_; }
   std::size_t voxel_count() const { return cell_slot_.size(); }
+  // Point storage held (in use or free for reuse), bytes.
+  std::size_t storage_bytes() const { return blocks_.size() * sizeof(ChunkBlock); }
   bool empty() const { return point_count_ == 0; }
   void clear();
   const LocalMapParams& params() const { return params_; }
@@ -91,22 +94,51 @@ class LocalMap {
   template <class F>
   void for_each_point(F&& f) const {
     for (const auto& [key, slot] : cell_slot_) {
-      const std::size_t base = static_cast<std::size_t>(slot) * cap_;
-      for (std::size_t j = 0; j < slots_[slot].count; ++j) f(points_[base + j]);
+      for_each_chunk(slots_[slot], [&](const Chunk& chunk, std::uint32_t, std::uint32_t n) {
+        for (std::uint32_t j = 0; j < n; ++j) f(chunk.points[j]);
+      });
     }
   }
 
  private:
-  // Voxel `slot` owns entries [slot·cap, slot·cap + count) of positions_ and
-  // points_: a voxel's positions are contiguous (the searches only read
-  // them), and a dropped voxel's slot is recycled, so a map of bounded extent
-  // stops allocating.
+  // A voxel's points live in a chain of fixed-size chunks from one pool: a
+  // voxel holds only as many chunks as its points need (most voxels of a
+  // 16-ring map hold far fewer than the cap), the pool grows without moving
+  // anything (a deque), and the chunks of dropped voxels are reused, so a map
+  // of bounded extent stops allocating. A point's index is its chunk × 32 + slot.
+  static constexpr std::uint32_t kChunkPoints = 32;
+  static constexpr std::uint32_t kBlockChunks = 64;  // the pool grows by this many chunks
+  static constexpr std::uint32_t kNoChunk = ~std::uint32_t{0};
+  struct Chunk {
+    std::array<Eigen::Vector3d, kChunkPoints> positions;  // what the searches scan, contiguous
+    std::array<MapPoint, kChunkPoints> points;
+    std::uint32_t next = kNoChunk;
+  };
+  using ChunkBlock = std::array<Chunk, kBlockChunks>;
+  Chunk& chunk(std::uint32_t c) { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }
+  const Chunk& chunk(std::uint32_t c) const { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }
   struct Slot {
     CellKey key;
     std::uint32_t count = 0;
+    std::uint32_t first_chunk = kNoChunk;
+    std::uint32_t last_chunk = kNoChunk;
   };
+  // f(chunk, index of its first point, points used in it) for each chunk of the voxel.
+  template <class F>
+  void for_each_chunk(const Slot& slot, F&& f) const {
+    std::uint32_t left = slot.count;
+    for (std::uint32_t c = slot.first_chunk; left > 0;) {
+      const Chunk& current = chunk(c);
+      const std::uint32_t n = std::min(left, kChunkPoints);
+      f(current, c * kChunkPoints, n);
+      c = current.next;
+      left -= n;
+    }
+  }
   bool has_point_within(const Eigen::Vector3d& q_w, double distance_m) const;
   std::uint32_t slot_for(const CellKey& key);
+  std::uint32_t new_chunk();
+  void release(Slot& slot);
 
   LocalMapParams params_;
   std::uint32_t cap_;
@@ -114,8 +146,8 @@ class LocalMap {
   tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
   CellOccupancy occupancy_;  // of cell_slot_'s keys
   std::vector<Slot> slots_;
-  std::vector<Eigen::Vector3d> positions_;
-  std::vector<MapPoint> points_;
+  std::vector<std::unique_ptr<ChunkBlock>> blocks_;
+  std::vector<std::uint32_t> free_chunks_;
   std::vector<std::uint32_t> free_slots_;
   std::size_t point_count_ = 0;
   std::uint32_t insert_count_ = 0;

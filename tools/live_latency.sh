@@ -3,7 +3,8 @@
 # scenario in real time (lidar to 127.0.0.1, IMU bytes into a pty) and
 # tumbled runs live against them, publishing on memq:// (nothing leaves the
 # process). At the end tumbled logs the run's latencies: IMU bytes read ->
-# TUMBLE_ODOM and scan complete -> TUMBLE_POSE, p50/p99/max.
+# TUMBLE_ODOM and scan complete -> TUMBLE_POSE, p50/p99/max; this script adds
+# tumbled's peak resident memory.
 #   tools/live_latency.sh BUILD_DIR [SCENARIO] [tumbled options, e.g. --set daemon.realtime_priority=50]
 # The figures depend on the machine's load: the simulator itself needs about
 # a core to ray-cast in real time.
@@ -50,7 +51,9 @@ tumbled_pid=$!
 wait "$sim_pid" || { echo "tumble-sim failed:" >&2; cat "$work/sim.err" >&2; exit 1; }
 sim_pid=""
 sleep 1
+peak_rss=$(sed -n 's/^VmHWM:\s*//p' "/proc/$tumbled_pid/status")
 kill -TERM "$tumbled_pid"
 wait "$tumbled_pid" || { echo "tumbled failed:" >&2; cat "$work/tumbled.err" >&2; exit 1; }
 tumbled_pid=""
 grep -E "warn|error|latency over the run" "$work/tumbled.err" | sed 's/^\[[^]]*\] //'
+echo "tumbled peak RSS: $peak_rss"
