@@ -139,7 +139,7 @@ struct DaemonSection {
   int trajectory_buffer_capacity = 8192;
   double trajectory_wait_s = 0.2;
   int realtime_priority = 0;
-  int registration_nice = 5;
+  int registration_nice = 0;
   LogLevel log_level = LogLevel::Info;
   double status_period_s = 1.0;
   HealthConfig health;

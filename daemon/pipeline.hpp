@@ -171,6 +171,7 @@ class Pipeline {
   std::vector<TrajectoryRecord> window_;  // sized once: the trajectory buffer's capacity
   RegistrationRecord registration_out_;
   std::uint64_t corrections_pushed_ = 0;
+  std::int64_t correction_pushed_steady_ns_ = 0;  // registration thread: when the newest was pushed
   // The fuser's step gate (OverflowPolicy::Wait): the end of the complete scan
   // not yet registered (+inf: none), and the newest lidar point seen (+inf: no
   // more lidar data).

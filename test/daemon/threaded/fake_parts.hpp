@@ -7,13 +7,16 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/post.hpp>
+#include <chrono>
 #include <cstdint>
 #include <cstring>
 #include <functional>
 #include <memory>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "daemon/pipeline.hpp"
@@ -164,6 +167,8 @@ class FakeImuDecoder : public ImuDecoder {
 // Moves at 1 m/s along x once initialised.
 class FakeFuser : public FuserStage {
  public:
+  std::chrono::milliseconds correction_delay{0};  // a slow fuser thread
+
   bool add_imu(const ImuSample& sample, TrajectoryRecord& out) override {
     if (++samples_ <= kImuSamplesBeforeInitialised) return false;
     out = TrajectoryRecord{};
@@ -174,19 +179,24 @@ class FakeFuser : public FuserStage {
     return true;
   }
   void add_correction(const RegistrationRecord&, const std::function<void(const TrajectoryRecord&)>&) override {
-    ++corrections_;
+    if (correction_delay.count() > 0) std::this_thread::sleep_for(correction_delay);
+    corrections_.fetch_add(1, std::memory_order_release);
   }
-  int corrections() const { return corrections_; }
+  int corrections() const { return corrections_.load(std::memory_order_acquire); }
+  const std::atomic<int>& corrections_counter() const { return corrections_; }
 
  private:
   int samples_ = 0;
-  int corrections_ = 0;
+  std::atomic<int> corrections_{0};
 };
 
 // Assembles scans by the scan index in x_m; reports what trajectory it was given.
 class FakeRegistration : public RegistrationStage {
  public:
   std::function<void()> on_register;  // e.g. to throw
+  // When set, each result's covariance[0] is how many corrections the fuser
+  // had applied when this scan was registered.
+  const std::atomic<int>* corrections_applied = nullptr;
 
   std::vector<std::string> stage_names() const override { return {"assemble", "icp"}; }
 
@@ -213,6 +223,7 @@ class FakeRegistration : public RegistrationStage {
     out.position_m = {static_cast<double>(trajectory.size()), trajectory.empty() ? -1.0 : trajectory.front().t_s,
                       trajectory.empty() ? -1.0 : trajectory.back().t_s};
     out.iterations = static_cast<std::int32_t>(held_.size());
+    if (corrections_applied != nullptr) out.covariance[0] = corrections_applied->load(std::memory_order_acquire);
     out.registered = true;
     out.converged = true;
     out.inlier_ratio = 0.6f;
