@@ -85,8 +85,6 @@ class LocalMap {
 
   std::size_t size() const { return point_count_; }
   std::size_t voxel_count() const { return cell_slot_.size(); }
-  // Point storage held (in use or free for reuse), bytes.
-  std::size_t storage_bytes() const { return blocks_.size() * sizeof(ChunkBlock); }
   bool empty() const { return point_count_ == 0; }
   void clear();
   const LocalMapParams& params() const { return params_; }
@@ -103,8 +101,8 @@ class LocalMap {
  private:
   // A voxel's points live in a chain of fixed-size chunks from one pool: a
   // voxel holds only as many chunks as its points need (most voxels of a
-  // 16-ring map hold far fewer than the cap), the pool grows without moving
-  // anything (a deque), and the chunks of dropped voxels are reused, so a map
+  // 16-ring map hold far fewer than the cap), the pool grows by blocks that
+  // never move, and the chunks of dropped voxels are reused, so a map
   // of bounded extent stops allocating. A point's index is its chunk × 32 + slot.
   static constexpr std::uint32_t kChunkPoints = 32;
   static constexpr std::uint32_t kBlockChunks = 64;  // the pool grows by this many chunks

@@ -7,21 +7,10 @@
 #include <utility>
 
 #include "daemon/lcm_messages.hpp"
+#include "daemon/steady_time.hpp"
 #include "daemon/thread_setup.hpp"
 
 namespace tumble::daemon {
-
-namespace {
-
-// Milliseconds from a steady-clock stamp to now; 0 for an unknown stamp (0).
-float latency_ms_since(std::int64_t steady_ns) {
-  if (steady_ns == 0) return 0.0f;
-  const auto now_ns =
-      std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch()).count();
-  return static_cast<float>(static_cast<double>(now_ns - steady_ns) * 1e-6);
-}
-
-}  // namespace
 
 LcmChannels LcmChannels::with_prefix(const std::string& prefix) {
   return {prefix + "ODOM", prefix + "POSE", prefix + "STATUS", prefix + "SCAN"};
@@ -62,10 +51,7 @@ std::size_t LcmPublisher::publish_pending() {
       const float latency_ms = latency_ms_since(sample.imu_arrival_steady_ns);
       to_lcm(sample, odometry_seq_++, latency_ms, odometry_message_);
       publish(kOdometry, odometry_message_);
-      if (sample.imu_arrival_steady_ns != 0) {
-        odometry_latency_period_.add(latency_ms);
-        odometry_latency_run_.add(latency_ms);
-      }
+      if (sample.imu_arrival_steady_ns != 0) odometry_latency_.add(latency_ms);
     }))
       ++count;
   }
@@ -74,23 +60,22 @@ std::size_t LcmPublisher::publish_pending() {
       const float latency_ms = latency_ms_since(r.scan_complete_steady_ns);
       to_lcm(r, stage_names_, latency_ms, registration_message_);
       publish(kPose, registration_message_);
-      if (r.scan_complete_steady_ns != 0) {
-        pose_latency_period_.add(latency_ms);
-        pose_latency_run_.add(latency_ms);
-      }
+      if (r.scan_complete_steady_ns != 0) pose_latency_.add(latency_ms);
       for (RegistrationObserver* observer : observers_) observer->on_registration(r);
     }))
       ++count;
   }
   if (inputs_.status) {
     if (tumble::status_t* status = inputs_.status->take()) {
-      status->odometry_latency_p50_ms = static_cast<float>(odometry_latency_period_.percentile_ms(0.5));
-      status->odometry_latency_p99_ms = static_cast<float>(odometry_latency_period_.percentile_ms(0.99));
-      status->odometry_latency_max_ms = static_cast<float>(odometry_latency_period_.max_ms());
-      status->pose_latency_p50_ms = static_cast<float>(pose_latency_period_.percentile_ms(0.5));
-      status->pose_latency_max_ms = static_cast<float>(pose_latency_period_.max_ms());
-      odometry_latency_period_.reset();
-      pose_latency_period_.reset();
+      const LatencyHistogram& odometry = odometry_latency_.period;
+      const LatencyHistogram& pose = pose_latency_.period;
+      status->odometry_latency_p50_ms = static_cast<float>(odometry.percentile_ms(0.5));
+      status->odometry_latency_p99_ms = static_cast<float>(odometry.percentile_ms(0.99));
+      status->odometry_latency_max_ms = static_cast<float>(odometry.max_ms());
+      status->pose_latency_p50_ms = static_cast<float>(pose.percentile_ms(0.5));
+      status->pose_latency_max_ms = static_cast<float>(pose.max_ms());
+      odometry_latency_.period.reset();
+      pose_latency_.period.reset();
       publish(kStatus, *status);
       ++count;
     }

@@ -74,8 +74,8 @@ class LcmPublisher {
   std::uint64_t failed(Channel c) const { return failed_[c].load(std::memory_order_relaxed); }
   // Input arrived -> message handed to LCM, over the whole run: read them
   // once stop() returned (the publish thread writes them).
-  const LatencyHistogram& odometry_latency() const { return odometry_latency_run_; }
-  const LatencyHistogram& pose_latency() const { return pose_latency_run_; }
+  const LatencyHistogram& odometry_latency() const { return odometry_latency_.run; }
+  const LatencyHistogram& pose_latency() const { return pose_latency_.run; }
   // Advances at least every 100 ms while the publish thread is alive.
   std::uint64_t heartbeat() const { return heartbeat_.load(std::memory_order_relaxed); }
 
@@ -96,8 +96,14 @@ class LcmPublisher {
   std::vector<std::uint8_t> buffer_;
   std::int64_t odometry_seq_ = 0;
   // Per status period (reported in status_t, then reset) and per run.
-  LatencyHistogram odometry_latency_period_, odometry_latency_run_;
-  LatencyHistogram pose_latency_period_, pose_latency_run_;
+  struct Latencies {
+    LatencyHistogram period, run;
+    void add(double ms) {
+      period.add(ms);
+      run.add(ms);
+    }
+  };
+  Latencies odometry_latency_, pose_latency_;
   RateLimitedLog warnings_{3, 10.0};  // per channel: a dead network must not flood the log
 
   std::array<std::atomic<std::uint64_t>, kChannelCount> published_{};

@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "daemon/steady_time.hpp"
 #include "daemon/thread_setup.hpp"
 
 namespace tumble::daemon {
@@ -16,11 +17,6 @@ namespace {
 
 constexpr auto kIdleWait = std::chrono::milliseconds(50);  // bounds how stale a heartbeat can get
 constexpr auto kRoomPoll = std::chrono::microseconds(100);
-
-std::int64_t steady_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 std::size_t capacity(int configured) { return static_cast<std::size_t>(configured); }
 

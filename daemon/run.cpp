@@ -12,6 +12,7 @@
 #include "daemon/status_aggregator.hpp"
 #include "daemon/systemd_notify.hpp"
 #include "daemon/scan_log.hpp"
+#include "daemon/steady_time.hpp"
 #include "daemon/trajectory_file.hpp"
 
 namespace tumble::daemon {
@@ -31,11 +32,6 @@ void log_latency_summary(const LcmPublisher& publisher, bool lossless_replay) {
       odometry.percentile_ms(0.5), odometry.percentile_ms(0.99), odometry.max_ms(), odometry.count(),
       pose.percentile_ms(0.5), pose.percentile_ms(0.99), pose.max_ms(), pose.count(),
       lossless_replay ? " (replay at --rate max: input queued by design, not a latency)" : "");
-}
-
-std::int64_t steady_now_ns() {
-  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
-      .count();
 }
 
 std::int64_t host_utime_now() {

@@ -2,7 +2,7 @@
 
 #include <fmt/format.h>
 
-#include <chrono>
+#include "daemon/steady_time.hpp"
 
 namespace tumble::daemon {
 
@@ -16,9 +16,6 @@ ScanLog::ScanLog(std::string path, const std::vector<std::string>& stage_names) 
 
 void ScanLog::on_registration(const RegistrationRecord& r) {
   if (file_.get() == nullptr) return;
-  const std::int64_t now_ns = std::chrono::duration_cast<std::chrono::nanoseconds>(
-                                  std::chrono::steady_clock::now().time_since_epoch())
-                                  .count();
   fmt::print(file_.get(), "{},{:.6f},{:d},{:d},{},{:.4f},{:.5f},{:.6g},{},{},{:.5f}", r.scan_index, r.t_s,
              r.registered, r.converged, r.iterations, r.inlier_ratio, r.residual_m, r.degeneracy, r.points_in,
              r.points_used, r.sigma_s_median_m);
@@ -27,8 +24,7 @@ void ScanLog::on_registration(const RegistrationRecord& r) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);
     total_ms += r.stage_ms[i];
   }
-  const double latency_ms = r.scan_complete_steady_ns > 0 ? (now_ns - r.scan_complete_steady_ns) * 1e-6 : 0.0;
-  fmt::print(file_.get(), ",{:.3f},{:.3f}\n", total_ms, latency_ms);
+  fmt::print(file_.get(), ",{:.3f},{:.3f}\n", total_ms, latency_ms_since(r.scan_complete_steady_ns));
 }
 
 }  // namespace tumble::daemon

@@ -39,7 +39,7 @@ done
 [ -n "$pty" ] || { echo "tumble-sim printed no pty:" >&2; cat "$work/sim.err" >&2; exit 1; }
 
 # The scenario's IMU mounting, as the robot's tumbled.yaml would give it.
-field() { sed -n "s/^  T_LI: {$1: \(\[[^]]*\]\).*/\1/p; s/^  T_LI: {.*$1: \(\[[^]]*\]\).*/\1/p" "$scenario" | head -1; }
+field() { sed -n "s/^  T_LI: {.*$1: \(\[[^]]*\]\).*/\1/p" "$scenario"; }
 mounting=()
 translation=$(field translation_m) rotation=$(field rpy_deg)
 [ -n "$translation" ] && mounting+=(--set "imu.extrinsic_T_LI.translation_m=$translation")
