@@ -65,6 +65,10 @@ inline CellKey cell_of(const Eigen::Vector3d& p, double inv_cell_size) {
                  static_cast<std::int32_t>(std::floor(p.z() * inv_cell_size))};
 }
 
+// Whether a search returns its neighbours nearest first or in any order (a
+// plane fit does not care, and sorting 80 of them costs as much as finding them).
+enum class KnnOrder { kNearestFirst, kAny };
+
 // A neighbour found by a search; `index` means what the searched structure says.
 struct Neighbour {
   double distance_sq = 0;
@@ -110,14 +114,14 @@ class KnnResult {
   // Squared radius inside which a new candidate would still be kept.
   double bound_sq() const { return bound_sq_; }
   std::size_t size() const { return size_; }
-  // Sorts the kept neighbours, nearest first; returns how many.
-  std::size_t finish() {
+  // Leaves the k nearest candidates at the front of the storage, sorted
+  // nearest first unless `order` says any order will do; returns how many.
+  std::size_t finish(KnnOrder order) {
+    if (mode_ == Mode::Collect && size_ > k_) keep_k_nearest();
+    if (order == KnnOrder::kAny || mode_ == Mode::Insertion) return size_;
     const auto begin = storage_.begin();
-    if (mode_ == Mode::Heap) std::sort_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
-    if (mode_ == Mode::Collect) {
-      if (size_ > k_) keep_k_nearest();
-      std::sort(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
-    }
+    if (mode_ == Mode::Heap) std::sort_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), nearer);
+    if (mode_ == Mode::Collect) std::sort(begin, begin + static_cast<std::ptrdiff_t>(size_), nearer);
     return size_;
   }
 
@@ -129,20 +133,24 @@ class KnnResult {
   void keep_k_nearest() {
     const auto begin = storage_.begin();
     const auto kth = begin + static_cast<std::ptrdiff_t>(k_ - 1);
-    std::nth_element(begin, kth, begin + static_cast<std::ptrdiff_t>(size_), farther);
+    std::nth_element(begin, kth, begin + static_cast<std::ptrdiff_t>(size_), nearer);
     size_ = k_;
     bound_sq_ = kth->distance_sq;
   }
-  static bool farther(const Neighbour& a, const Neighbour& b) { return a.distance_sq < b.distance_sq; }
+  // A function object, not a function pointer: the standard algorithms inline it.
+  struct Nearer {
+    bool operator()(const Neighbour& a, const Neighbour& b) const { return a.distance_sq < b.distance_sq; }
+  };
+  static constexpr Nearer nearer{};
   void offer_heap(const Neighbour& n) {
     const auto begin = storage_.begin();
     if (size_ < storage_.size()) {
       storage_[size_++] = n;
-      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), nearer);
     } else {
-      std::pop_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+      std::pop_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), nearer);
       storage_[size_ - 1] = n;
-      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), farther);
+      std::push_heap(begin, begin + static_cast<std::ptrdiff_t>(size_), nearer);
     }
     if (size_ == storage_.size()) bound_sq_ = storage_.front().distance_sq;
   }

@@ -155,7 +155,7 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
     const PlaneFit fit = NormalEstimator::fit_neighbourhood(
         mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_,
         [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
-          return knn(q, radius, out, k);
+          return knn(q, radius, out, k, KnnOrder::kAny);
         },
         [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
         [&](std::uint32_t i) { return point(i).line_id; });
@@ -189,7 +189,7 @@ std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {
 }
 
 std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
-                          std::size_t k) const {
+                          std::size_t k, KnnOrder order) const {
   if (storage.empty()) return 0;
   KnnResult result(storage, max_distance_m, k);
   grid_knn_search(q_w, params_.voxel_size_m, result, [&](const CellKey& key, KnnResult& res) {
@@ -200,7 +200,7 @@ std::size_t LocalMap::knn(const Eigen::Vector3d& q_w, double max_distance_m, std
       for (std::uint32_t j = 0; j < n; ++j) res.offer((chunk.positions[j] - q_w).squaredNorm(), base + j);
     });
   });
-  return result.finish();
+  return result.finish(order);
 }
 
 }  // namespace tumble

@@ -77,10 +77,11 @@ class LocalMap {
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
 
   // The up to k (0: storage.size()) nearest map points of q_w within
-  // max_distance_m, nearest first, at the front of storage; returns how many.
-  // Resolve an index with point(). Storage for 2k is faster for large k.
+  // max_distance_m, nearest first unless `order` is kAny, at the front of
+  // storage; returns how many. Resolve an index with point(). Storage for 2k
+  // is faster for large k.
   std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
-                  std::size_t k = 0) const;
+                  std::size_t k = 0, KnnOrder order = KnnOrder::kNearestFirst) const;
   const MapPoint& point(std::uint32_t index) const { return chunk(index / kChunkPoints).points[index % kChunkPoints]; }
 
   std::size_t size() const { return point_count_; }

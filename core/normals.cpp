@@ -49,7 +49,7 @@ void NormalEstimator::index(const PointCloud& cloud) { grid_.build(cloud.points,
 
 void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i) {
   auto knn = [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
-    return grid_.knn(q, radius, out, k);
+    return grid_.knn(q, radius, out, k, KnnOrder::kAny);
   };
   auto position = [&](std::uint32_t index) -> const Eigen::Vector3d& { return cloud.points[index]; };
   auto line = [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; };

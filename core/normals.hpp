@@ -82,7 +82,8 @@ class NormalEstimator {
 
   // The plane through the up to `k` (or line_retry_k) nearest neighbours of
   // query found by knn(query, max_radius, storage, k) -> count (storage holds
-  // 2k, for the faster search of large k), indices resolved by
+  // 2k, for the faster search of large k; the neighbours may come in any
+  // order, see KnnOrder), indices resolved by
   // position(index) and line(index) (the scan line of that neighbour; the
   // query's is query_line). Shared by the reading and the map.
   template <class Knn, class Position, class Line>

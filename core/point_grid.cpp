@@ -39,7 +39,7 @@ void PointGrid::build(std::span<const Eigen::Vector3d> points, double cell_size_
 }
 
 std::size_t PointGrid::knn(const Eigen::Vector3d& q, double max_distance_m, std::span<Neighbour> storage,
-                           std::size_t k) const {
+                           std::size_t k, KnnOrder order) const {
   if (storage.empty()) return 0;
   KnnResult result(storage, max_distance_m, k);
   grid_knn_search(q, cell_size_m_, result, [&](const CellKey& key, KnnResult& res) {
@@ -50,7 +50,7 @@ std::size_t PointGrid::knn(const Eigen::Vector3d& q, double max_distance_m, std:
     for (std::uint32_t j = r.begin; j < r.begin + r.count; ++j)
       res.offer((sorted_points_[j] - q).squaredNorm(), sorted_index_[j]);
   });
-  return result.finish();
+  return result.finish(order);
 }
 
 }  // namespace tumble

@@ -20,11 +20,12 @@ class PointGrid {
   void build(std::span<const Eigen::Vector3d> points, double cell_size_m);
 
   // The up to k (0: storage.size()) nearest points of q closer than
-  // max_distance_m (finite), nearest first, at the front of storage; returns
-  // how many. Neighbour::index is the point's index in the span given to
-  // build(). Storage for 2k is faster for large k (see KnnResult).
+  // max_distance_m (finite), nearest first unless `order` is kAny, at the
+  // front of storage; returns how many. Neighbour::index is the point's index
+  // in the span given to build(). Storage for 2k is faster for large k (see
+  // KnnResult).
   std::size_t knn(const Eigen::Vector3d& q, double max_distance_m, std::span<Neighbour> storage,
-                  std::size_t k = 0) const;
+                  std::size_t k = 0, KnnOrder order = KnnOrder::kNearestFirst) const;
 
   std::size_t size() const { return sorted_points_.size(); }
   double cell_size_m() const { return cell_size_m_; }

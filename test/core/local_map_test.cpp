@@ -117,6 +117,12 @@ TEST(LocalMap, KnnMatchesBruteForce) {
         EXPECT_DOUBLE_EQ(out[i].distance_sq, brute[i]);
         EXPECT_DOUBLE_EQ((map.point(out[i].index).p_w - query).squaredNorm(), brute[i]);
       }
+      // In any order: the same neighbours.
+      ASSERT_EQ(map.knn(query, radius, std::span<Neighbour>(out.data(), storage), k, KnnOrder::kAny), found);
+      std::vector<double> any_order;
+      for (std::size_t i = 0; i < found; ++i) any_order.push_back((map.point(out[i].index).p_w - query).squaredNorm());
+      std::sort(any_order.begin(), any_order.end());
+      for (std::size_t i = 0; i < found; ++i) EXPECT_DOUBLE_EQ(any_order[i], brute[i]);
     }
   }
 }

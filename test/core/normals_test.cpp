@@ -185,6 +185,11 @@ TEST(PointGrid, KnnMatchesBruteForce) {
       EXPECT_DOUBLE_EQ(out[k].distance_sq, brute[k].first);
       EXPECT_EQ(out[k].index, brute[k].second);
     }
+    // In any order: the same neighbours.
+    ASSERT_EQ(grid.knn(query, radius, out, k, KnnOrder::kAny), found);
+    std::sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(found),
+              [](const Neighbour& a, const Neighbour& b) { return a.distance_sq < b.distance_sq; });
+    for (std::size_t k = 0; k < found; ++k) EXPECT_EQ(out[k].index, brute[k].second);
   }
 }
 
