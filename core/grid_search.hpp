@@ -50,7 +50,6 @@ class CellOccupancy {
   explicit CellOccupancy(int bits = 18) : shift_(64 - bits), counts_(std::size_t{1} << bits, 0) {}
   void add(const CellKey& key) { ++counts_[slot(key)]; }
   void remove(const CellKey& key) { --counts_[slot(key)]; }
-  void clear() { std::fill(counts_.begin(), counts_.end(), 0u); }
   bool maybe_occupied(const CellKey& key) const { return counts_[slot(key)] != 0; }
 
  private:

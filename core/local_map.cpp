@@ -41,16 +41,6 @@ void LocalMap::release(Slot& slot) {
   slot.first_chunk = slot.last_chunk = kNoChunk;
 }
 
-void LocalMap::clear() {
-  for (const auto& [key, slot] : cell_slot_) {
-    release(slots_[slot]);
-    free_slots_.push_back(slot);
-  }
-  cell_slot_.clear();
-  occupancy_.clear();
-  point_count_ = 0;
-}
-
 bool LocalMap::has_point_within(const Eigen::Vector3d& q_w, double distance_m) const {
   if (distance_m <= 0) return false;
   const double d2 = distance_m * distance_m;

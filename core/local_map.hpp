@@ -87,7 +87,6 @@ class LocalMap {
   std::size_t size() const { return point_count_; }
   std::size_t voxel_count() const { return cell_slot_.size(); }
   bool empty() const { return point_count_ == 0; }
-  void clear();
   const LocalMapParams& params() const { return params_; }
 
   template <class F>

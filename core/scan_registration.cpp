@@ -43,11 +43,6 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock)
       map_(params.map),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
-void ScanRegistration::reset() {
-  map_.clear();
-  last_scan_start_s_ = -1e300;
-}
-
 ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result) {
   const double t_start = scan.points.front().t_s;
   if (t_start <= last_scan_start_s_) return ScanOutcome::OutOfOrder;

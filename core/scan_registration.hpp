@@ -128,8 +128,6 @@ class ScanRegistration {
   // point, with normals, σ's and weights.
   const PointCloud& reading() const { return registered_; }
   const LocalMap& map() const { return map_; }
-  // Forget the map and the scan order (re-initialisation after being lost).
-  void reset();
 
  private:
   double now() const { return clock_ ? clock_() : 0.0; }
