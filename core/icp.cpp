@@ -79,10 +79,13 @@ FrmsdTrim frmsd_trim(std::span<const double> squared_distances, double r_min, do
   return trim;
 }
 
-Icp::Icp(const IcpParams& params, Clock clock) : params_(params), clock_(std::move(clock)) {
+Icp::Icp(const IcpParams& params, Clock clock, ParallelRunner& runner)
+    : params_(params), clock_(std::move(clock)), runner_(&runner), workers_(runner.workers()) {
   check_params(params);
-  neighbours_.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
-  ranked_.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
+  for (WorkerScratch& scratch : workers_) {
+    scratch.neighbours.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
+    scratch.ranked.resize(static_cast<std::size_t>(params.match_k) + kExtraKept);
+  }
   const auto iterations = static_cast<std::size_t>(params.max_iterations);
   search_poses_.resize(iterations);
   pose_change_rot_rad_.resize(iterations);
@@ -92,7 +95,9 @@ Icp::Icp(const IcpParams& params, Clock clock) : params_(params), clock_(std::mo
 }
 
 std::size_t Icp::neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int iteration, const LocalMap& map,
-                               double displacement_m) {
+                               double displacement_m, WorkerScratch& scratch) {
+  std::vector<RankedNeighbour>& ranked = scratch.ranked;
+  std::vector<Neighbour>& found = scratch.neighbours;
   const std::size_t k = static_cast<std::size_t>(params_.match_k);
   const std::size_t kept_capacity = k + kExtraKept;
   const double max_sq = params_.max_match_distance_m * params_.max_match_distance_m;
@@ -103,36 +108,69 @@ std::size_t Icp::neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int it
     for (std::size_t j = 0; j < count; ++j) {
       const RankedNeighbour candidate{(kept[j].p_w - p_w).squaredNorm(), &kept[j]};
       std::size_t m = j;
-      while (m > 0 && ranked_[m - 1].distance_sq > candidate.distance_sq) {
-        ranked_[m] = ranked_[m - 1];
+      while (m > 0 && ranked[m - 1].distance_sq > candidate.distance_sq) {
+        ranked[m] = ranked[m - 1];
         --m;
       }
-      ranked_[m] = candidate;
+      ranked[m] = candidate;
     }
     std::size_t matched = 0;
-    while (matched < std::min(count, k) && ranked_[matched].distance_sq < max_sq) ++matched;
+    while (matched < std::min(count, k) && ranked[matched].distance_sq < max_sq) ++matched;
     // Unkept map points are at least clear − δ away now: they can neither
     // beat the k-th kept neighbour nor come within the match distance.
     const double clear = clear_radius_m_[i] - displacement_m - 1e-9;
-    const bool exact = matched == k ? ranked_[k - 1].distance_sq < clear * clear : clear >= params_.max_match_distance_m;
+    const bool exact = matched == k ? ranked[k - 1].distance_sq < clear * clear : clear >= params_.max_match_distance_m;
     if (clear > 0 && exact) return matched;
   }
   // A fresh search, a margin beyond the match distance so that the next
   // iterations' small moves stay inside what it saw.
   const double search_radius = params_.max_match_distance_m * kReuseMargin;
-  count = map.knn(p_w, search_radius, neighbours_);
-  ++searches_;
+  count = map.knn(p_w, search_radius, found);
+  ++scratch.searches;
   for (std::size_t j = 0; j < count; ++j) {
-    const MapPoint& q = map.point(neighbours_[j].index);
+    const MapPoint& q = map.point(found[j].index);
     kept[j] = KeptNeighbour{q.p_w, q.normal_w, q.sigma_n_m * q.sigma_n_m + q.sigma_s_m * q.sigma_s_m, q.normal_valid};
-    ranked_[j] = RankedNeighbour{neighbours_[j].distance_sq, &kept[j]};
+    ranked[j] = RankedNeighbour{found[j].distance_sq, &kept[j]};
   }
   kept_count_[i] = static_cast<std::uint8_t>(count);
-  clear_radius_m_[i] = count == kept_capacity ? std::sqrt(neighbours_[count - 1].distance_sq) : search_radius;
+  clear_radius_m_[i] = count == kept_capacity ? std::sqrt(found[count - 1].distance_sq) : search_radius;
   searched_at_[i] = iteration;
   std::size_t matched = 0;
-  while (matched < std::min(count, k) && ranked_[matched].distance_sq < max_sq) ++matched;
+  while (matched < std::min(count, k) && ranked[matched].distance_sq < max_sq) ++matched;
   return matched;
+}
+
+std::size_t Icp::match_point(std::size_t i, const PointCloud& reading, const LocalMap& map,
+                             const MatchContext& context, WorkerScratch& scratch, Match* out) {
+  const Eigen::Vector3d p_w = context.R * reading.points[i] + context.t;
+  const auto since = static_cast<std::size_t>(searched_at_[i]);
+  const double moved =
+      context.iteration > 0 ? pose_change_trans_m_[since] + pose_change_rot_rad_[since] * ranges_m_[i] : 0.0;
+  const std::size_t found = neighbours_of(i, p_w, context.iteration, map, moved, scratch);
+  if (found == 0) return 0;
+  const double read_var = reading.sigma_n_m[i] * reading.sigma_n_m[i] + reading.sigma_s_m[i] * reading.sigma_s_m[i];
+  const bool check_normal = reading.normal_valid[i] != 0 && context.min_normal_cos > 0;
+  const Eigen::Vector3d read_normal_w =
+      check_normal ? Eigen::Vector3d(context.R * reading.normals[i]) : Eigen::Vector3d::Zero();
+  std::size_t count = 0;
+  for (std::size_t j = 0; j < found; ++j) {
+    const KeptNeighbour& q = *scratch.ranked[j].neighbour;
+    if (!q.normal_valid) continue;
+    if (check_normal && std::abs(read_normal_w.dot(q.normal_w)) < context.min_normal_cos) continue;
+    double w;
+    if (params_.weighting == MatchWeighting::kPointWeight) {
+      w = reading.weights[i];
+    } else {
+      const double var = read_var + q.variance;
+      w = var > 0 ? 1.0 / var : 0.0;
+    }
+    if (!(w > 0) || !std::isfinite(w)) continue;
+    const double trim_sq = params_.trim_distance == TrimDistance::kMatch
+                               ? scratch.ranked[j].distance_sq
+                               : [&] { const double r = q.normal_w.dot(p_w - q.p_w); return r * r; }();
+    out[count++] = Match{p_w, q.p_w, q.normal_w, trim_sq, w};
+  }
+  return count;
 }
 
 IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl) {
@@ -151,12 +189,14 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   const std::size_t n = reading.size();
   const std::size_t k = static_cast<std::size_t>(params_.match_k);
   kept_.resize(n * (k + kExtraKept));
+  point_matches_.resize(n * k);
+  point_match_count_.resize(n);
   kept_count_.resize(n);
   clear_radius_m_.resize(n);
   searched_at_.resize(n);
   ranges_m_.resize(n);
   for (std::size_t i = 0; i < n; ++i) ranges_m_[i] = reading.points[i].norm();
-  searches_ = 0;
+  for (WorkerScratch& scratch : workers_) scratch.searches = 0;
 
   Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
   double weight_sum = 0;
@@ -174,35 +214,18 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       pose_change_rot_rad_[j] = Eigen::AngleAxisd(R * search_poses_[j].R.transpose()).angle();
       pose_change_trans_m_[j] = (t - search_poses_[j].t).norm();
     }
-    // Data association.
+    // Data association, the points spread over the runner's threads: each
+    // writes its own match slots, gathered below in reading order.
+    const MatchContext context{R, t, iteration, min_normal_cos};
+    runner_->run(n, [&](std::size_t worker, std::size_t begin, std::size_t end) {
+      for (std::size_t i = begin; i < end; ++i)
+        point_match_count_[i] =
+            static_cast<std::uint8_t>(match_point(i, reading, map, context, workers_[worker], &point_matches_[i * k]));
+    });
     matches_.clear();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d p_w = R * reading.points[i] + t;
-      const auto since = static_cast<std::size_t>(searched_at_[i]);
-      const double moved = iteration > 0 ? pose_change_trans_m_[since] + pose_change_rot_rad_[since] * ranges_m_[i] : 0.0;
-      const std::size_t found = neighbours_of(i, p_w, iteration, map, moved);
-      if (found == 0) continue;
-      const double read_var = reading.sigma_n_m[i] * reading.sigma_n_m[i] + reading.sigma_s_m[i] * reading.sigma_s_m[i];
-      const bool check_normal = reading.normal_valid[i] != 0 && min_normal_cos > 0;
-      const Eigen::Vector3d read_normal_w = check_normal ? Eigen::Vector3d(R * reading.normals[i]) : Eigen::Vector3d::Zero();
-      for (std::size_t j = 0; j < found; ++j) {
-        const KeptNeighbour& q = *ranked_[j].neighbour;
-        if (!q.normal_valid) continue;
-        if (check_normal && std::abs(read_normal_w.dot(q.normal_w)) < min_normal_cos) continue;
-        double w;
-        if (params_.weighting == MatchWeighting::kPointWeight) {
-          w = reading.weights[i];
-        } else {
-          const double var = read_var + q.variance;
-          w = var > 0 ? 1.0 / var : 0.0;
-        }
-        if (!(w > 0) || !std::isfinite(w)) continue;
-        const double trim_sq = params_.trim_distance == TrimDistance::kMatch
-                                   ? ranked_[j].distance_sq
-                                   : [&] { const double r = q.normal_w.dot(p_w - q.p_w); return r * r; }();
-        matches_.push_back(Match{p_w, q.p_w, q.normal_w, trim_sq, w});
-      }
-    }
+    for (std::size_t i = 0; i < n; ++i)
+      matches_.insert(matches_.end(), point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k),
+                      point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k + point_match_count_[i]));
     result.matches_considered = matches_.size();
     if (matches_.size() < 6) {
       const double t_end = now();
@@ -311,7 +334,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     }
   }
 
-  result.neighbour_searches = searches_;
+  for (const WorkerScratch& scratch : workers_) result.neighbour_searches += scratch.searches;
   Eigen::Quaterniond q(R);
   q.normalize();
   result.T_wl.linear() = q.toRotationMatrix();

@@ -21,6 +21,7 @@
 
 #include "core/grid_search.hpp"
 #include "core/local_map.hpp"
+#include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 
 namespace tumble {
@@ -122,7 +123,8 @@ class Icp {
  public:
   using Clock = std::function<double()>;  // seconds
 
-  explicit Icp(const IcpParams& params = {}, Clock clock = {});
+  // Matching (searches and checks) runs on `runner`'s threads.
+  explicit Icp(const IcpParams& params = {}, Clock clock = {}, ParallelRunner& runner = serial_runner());
 
   // Registers `reading` (frame L, with sigmas or weights) to `map`, starting
   // from initial_T_wl. Allocation-free once its buffers have grown.
@@ -157,19 +159,37 @@ class Icp {
     Eigen::Matrix3d R;
     Eigen::Vector3d t;
   };
-  // Fills ranked_ with point i's neighbours at p_w (moved at most
+  // A worker's scratch for one point at a time.
+  struct WorkerScratch {
+    std::vector<Neighbour> neighbours;    // one search's results
+    std::vector<RankedNeighbour> ranked;  // the current point's neighbours, nearest first
+    std::size_t searches = 0;
+  };
+  // What one iteration's data association needs of the current estimate.
+  struct MatchContext {
+    const Eigen::Matrix3d& R;
+    const Eigen::Vector3d& t;
+    int iteration;
+    double min_normal_cos;  // 0: no normal test
+  };
+  // Writes reading point i's matches (at most match_k) to out; returns how many.
+  std::size_t match_point(std::size_t i, const PointCloud& reading, const LocalMap& map, const MatchContext& context,
+                          WorkerScratch& scratch, Match* out);
+  // Fills scratch.ranked with point i's neighbours at p_w (moved at most
   // displacement_m since its last search); returns how many are matches.
   std::size_t neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int iteration, const LocalMap& map,
-                            double displacement_m);
+                            double displacement_m, WorkerScratch& scratch);
   double now() const { return clock_ ? clock_() : 0.0; }
 
   IcpParams params_;
   Clock clock_;
-  std::vector<Match> matches_;
+  ParallelRunner* runner_;
+  std::vector<WorkerScratch> workers_;
+  std::vector<Match> point_matches_;          // match_k slots per reading point
+  std::vector<std::uint8_t> point_match_count_;
+  std::vector<Match> matches_;                // this iteration's, in reading order
   std::vector<double> distances_sq_;
   std::vector<double> scratch_;
-  std::vector<Neighbour> neighbours_;    // one search's results
-  std::vector<RankedNeighbour> ranked_;  // the current point's neighbours, nearest first
   std::vector<KeptNeighbour> kept_;
   std::vector<std::uint8_t> kept_count_;
   std::vector<double> clear_radius_m_;
@@ -178,7 +198,6 @@ class Icp {
   std::vector<SearchPose> search_poses_;      // per iteration
   std::vector<double> pose_change_rot_rad_;   // per iteration: angle(R · R_jᵀ) for the current R
   std::vector<double> pose_change_trans_m_;
-  std::size_t searches_ = 0;
   std::vector<double> recent_rotation_rad_;
   std::vector<double> recent_translation_m_;
 };

@@ -7,10 +7,12 @@
 
 namespace tumble {
 
-LocalMap::LocalMap(const LocalMapParams& params)
+LocalMap::LocalMap(const LocalMapParams& params, ParallelRunner& runner)
     : params_(params),
+      runner_(&runner),
       cap_(static_cast<std::uint32_t>(params.max_points_per_voxel)),
-      inv_voxel_(1.0 / params.voxel_size_m) {
+      inv_voxel_(1.0 / params.voxel_size_m),
+      neighbours_(runner.workers()) {
   if (!(params.voxel_size_m > 0)) throw std::invalid_argument("map voxel_size_m must be > 0");
   if (params.max_points_per_voxel < 1 || params.max_points_per_voxel > 4096)
     throw std::invalid_argument("map max_points_per_voxel must be in [1, 4096], got " +
@@ -18,7 +20,8 @@ LocalMap::LocalMap(const LocalMapParams& params)
   if (!(params.radius_m > 0)) throw std::invalid_argument("map radius_m must be > 0");
   if (params.min_point_distance_m < 0) throw std::invalid_argument("map min_point_distance_m must be >= 0");
   if (params.normals.k < 3) throw std::invalid_argument("map normals.k must be >= 3");
-  neighbours_.reserve(2 * static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
+  for (std::vector<Neighbour>& buffer : neighbours_)
+    buffer.reserve(2 * static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
 }
 
 std::uint32_t LocalMap::new_chunk() {
@@ -139,20 +142,25 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
   }
   point_count_ += stats.inserted;
 
+  // Each fit reads positions and scan lines only, and writes its own point's
+  // normal fields: the points can be fitted in any order, on any thread.
   const Eigen::Vector3d sensor_w = T_wl.translation();
-  for (const std::uint32_t index : new_points_) {
-    MapPoint& mp = chunk(index / kChunkPoints).points[index % kChunkPoints];
-    const PlaneFit fit = NormalEstimator::fit_neighbourhood(
-        mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_,
-        [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
-          return knn(q, radius, out, k, KnnOrder::kAny);
-        },
-        [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
-        [&](std::uint32_t i) { return point(i).line_id; });
-    mp.normal_w = fit.normal;
-    mp.curvature = fit.curvature;
-    mp.normal_valid = fit.valid;
-  }
+  runner_->run(new_points_.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    for (std::size_t n = begin; n < end; ++n) {
+      const std::uint32_t index = new_points_[n];
+      MapPoint& mp = chunk(index / kChunkPoints).points[index % kChunkPoints];
+      const PlaneFit fit = NormalEstimator::fit_neighbourhood(
+          mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_[worker],
+          [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
+            return knn(q, radius, out, k, KnnOrder::kAny);
+          },
+          [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
+          [&](std::uint32_t i) { return point(i).line_id; });
+      mp.normal_w = fit.normal;
+      mp.curvature = fit.curvature;
+      mp.normal_valid = fit.valid;
+    }
+  });
   return stats;
 }
 

@@ -17,6 +17,7 @@
 
 #include "core/grid_search.hpp"
 #include "core/normals.hpp"
+#include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 
 namespace tumble {
@@ -55,7 +56,8 @@ struct MapInsertStats {
 
 class LocalMap {
  public:
-  explicit LocalMap(const LocalMapParams& params = {});
+  // The normals of new points are fitted on `runner`'s threads.
+  explicit LocalMap(const LocalMapParams& params = {}, ParallelRunner& runner = serial_runner());
 
   // Inserts the points of `cloud` (frame L, rings used for the scan lines)
   // registered at T_wl, then fits the
@@ -139,6 +141,7 @@ class LocalMap {
   void release(Slot& slot);
 
   LocalMapParams params_;
+  ParallelRunner* runner_;
   std::uint32_t cap_;
   double inv_voxel_;
   tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
@@ -150,7 +153,7 @@ class LocalMap {
   std::size_t point_count_ = 0;
   std::uint32_t insert_count_ = 0;
   std::vector<std::uint32_t> new_points_;  // indices inserted by the current insert()
-  std::vector<Neighbour> neighbours_;
+  std::vector<std::vector<Neighbour>> neighbours_;  // per worker
   std::vector<CellKey> doomed_;
 };
 

@@ -39,21 +39,24 @@ PlaneFit CovarianceAccumulator::fit(const Eigen::Vector3d& viewpoint, const Norm
   return fit;
 }
 
-NormalEstimator::NormalEstimator(const NormalParams& params) : params_(params) {
+NormalEstimator::NormalEstimator(const NormalParams& params, ParallelRunner& runner)
+    : params_(params), runner_(&runner), neighbours_(runner.workers()) {
   if (params.k < 3) throw std::invalid_argument("normal k must be >= 3, got " + std::to_string(params.k));
   if (!(params.max_radius_m > 0)) throw std::invalid_argument("normal max_radius_m must be > 0");
-  neighbours_.reserve(2 * static_cast<std::size_t>(std::max(params.k, params.line_retry_k)));
+  for (std::vector<Neighbour>& buffer : neighbours_)
+    buffer.reserve(2 * static_cast<std::size_t>(std::max(params.k, params.line_retry_k)));
 }
 
 void NormalEstimator::index(const PointCloud& cloud) { grid_.build(cloud.points, params_.grid_cell_m); }
 
-void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i) {
+void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i,
+                                std::vector<Neighbour>& buffer) const {
   auto knn = [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
     return grid_.knn(q, radius, out, k, KnnOrder::kAny);
   };
   auto position = [&](std::uint32_t index) -> const Eigen::Vector3d& { return cloud.points[index]; };
   auto line = [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; };
-  const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, neighbours_, knn, position, line);
+  const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, buffer, knn, position, line);
   cloud.normals[i] = fit.normal;
   cloud.curvatures[i] = fit.curvature;
   cloud.normal_valid[i] = fit.valid ? 1 : 0;
@@ -61,12 +64,16 @@ void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpo
 
 void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint) {
   index(cloud);
-  for (std::size_t i = 0; i < cloud.size(); ++i) fit_point(cloud, viewpoint, i);
+  runner_->run(cloud.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) fit_point(cloud, viewpoint, i, neighbours_[worker]);
+  });
 }
 
 void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint,
                                std::span<const std::uint32_t> indices) {
-  for (const std::uint32_t i : indices) fit_point(cloud, viewpoint, i);
+  runner_->run(indices.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) fit_point(cloud, viewpoint, indices[j], neighbours_[worker]);
+  });
 }
 
 }  // namespace tumble

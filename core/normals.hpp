@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/grid_search.hpp"
+#include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 #include "core/point_grid.hpp"
 
@@ -75,10 +76,11 @@ class CovarianceAccumulator {
   int count_ = 0;
 };
 
-// Normals for every point of a cloud from its neighbours in the same cloud.
+// Normals for every point of a cloud from its neighbours in the same cloud,
+// the points' fits spread over `runner`'s threads.
 class NormalEstimator {
  public:
-  explicit NormalEstimator(const NormalParams& params = {});
+  explicit NormalEstimator(const NormalParams& params = {}, ParallelRunner& runner = serial_runner());
 
   // The plane through the up to `k` (or line_retry_k) nearest neighbours of
   // query found by knn(query, max_radius, storage, k) -> count (storage holds
@@ -128,11 +130,12 @@ class NormalEstimator {
   const NormalParams& params() const { return params_; }
 
  private:
-  void fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i);
+  void fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::size_t i, std::vector<Neighbour>& buffer) const;
 
   NormalParams params_;
+  ParallelRunner* runner_;
   PointGrid grid_;
-  std::vector<Neighbour> neighbours_;
+  std::vector<std::vector<Neighbour>> neighbours_;  // per worker
 };
 
 }  // namespace tumble

@@ -2,11 +2,11 @@
 
 namespace tumble {
 
-Odometry::Odometry(const OdometryParams& params, Clock clock)
+Odometry::Odometry(const OdometryParams& params, Clock clock, ParallelRunner& runner)
     : params_(params),
       clock_(std::move(clock)),
       fuser_(params.fuser),
-      registration_(params, clock_),
+      registration_(params, clock_, runner),
       pending_(params.max_pending_scans) {}
 
 std::size_t Odometry::add_imu(const ImuSample& sample) {

@@ -49,8 +49,9 @@ class Odometry {
   using ScanCallback = std::function<void(const ScanResult&)>;
   using PoseCallback = std::function<void(const TrajectorySample&)>;
 
-  // Throws std::invalid_argument naming the inconsistent parameter.
-  explicit Odometry(const OdometryParams& params, Clock clock = {});
+  // Throws std::invalid_argument naming the inconsistent parameter. runner:
+  // see ScanRegistration.
+  explicit Odometry(const OdometryParams& params, Clock clock = {}, ParallelRunner& runner = serial_runner());
 
   // Called with every scan result, inside add_imu()/add_scan().
   void set_scan_callback(ScanCallback callback) { on_scan_ = std::move(callback); }

@@ -34,13 +34,13 @@ void check_odometry_params(const OdometryParams& p) {
   if (!(p.registration_voxel_size_m >= 0)) fail("registration_voxel_size_m must be >= 0");
 }
 
-ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock)
+ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, ParallelRunner& runner)
     : params_(checked(params)),
       clock_(std::move(clock)),
       downsampler_(params.voxel_size_m),
-      normals_(params.reading_normals),
-      icp_(icp_params_for(params), clock_),
-      map_(params.map),
+      normals_(params.reading_normals, runner),
+      icp_(icp_params_for(params), clock_, runner),
+      map_(params.map, runner),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
 ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result) {

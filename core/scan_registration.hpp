@@ -15,6 +15,7 @@
 #include "core/imu_fuser.hpp"
 #include "core/local_map.hpp"
 #include "core/normals.hpp"
+#include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 #include "core/point_weights.hpp"
 #include "core/trajectory.hpp"
@@ -116,8 +117,10 @@ class ScanRegistration {
  public:
   using Clock = std::function<double()>;
 
-  // Throws std::invalid_argument naming the inconsistent parameter.
-  explicit ScanRegistration(const OdometryParams& params, Clock clock = {});
+  // Throws std::invalid_argument naming the inconsistent parameter. The
+  // per-point loops (normals, ICP matching, the map's new normals) run on
+  // `runner`'s threads; the result is the same for any runner.
+  explicit ScanRegistration(const OdometryParams& params, Clock clock = {}, ParallelRunner& runner = serial_runner());
 
   // `trajectory` should cover the scan (queries beyond its ends extrapolate).
   // result.v_w and timings.fuser_correction_s are left for the caller.

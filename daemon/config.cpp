@@ -153,6 +153,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("trajectory_wait_s", d.trajectory_wait_s, Range{0.0, 10.0});
     v.field("realtime_priority", d.realtime_priority, IntRange{0, 99});
     v.field("registration_nice", d.registration_nice, IntRange{0, 19});
+    v.field("registration_threads", d.registration_threads, IntRange{1, 64});
     v.field("log_level", d.log_level, Choice<LogLevel>{kLogLevels});
     v.field("status_period_s", d.status_period_s, Range{0.1, 60.0});
     v.section("health", [&] {

@@ -140,6 +140,7 @@ struct DaemonSection {
   double trajectory_wait_s = 0.2;
   int realtime_priority = 0;
   int registration_nice = 0;
+  int registration_threads = 2;
   LogLevel log_level = LogLevel::Info;
   double status_period_s = 1.0;
   HealthConfig health;

@@ -106,7 +106,8 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
 
 // ---- registration -----------------------------------------------------------------
 
-CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans)
+CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans,
+                                             std::size_t threads, std::function<void(std::size_t)> on_helper_start)
     : params_(params),
       assembler_(scans,
                  [this](Scan& scan, const rs16::ScanReport&) {
@@ -116,7 +117,8 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
                    std::swap(held_.points, scan.points);  // the assembler reuses our previous vector
                    holding_ = true;
                  }),
-      registration_(params, steady_now_s),
+      pool_(threads, std::move(on_helper_start)),
+      registration_(params, steady_now_s, pool_),
       trajectory_(params.fuser.trajectory_capacity, params.fuser.speed_uncertainty) {}
 
 std::vector<std::string> CoreRegistrationStage::stage_names() const {

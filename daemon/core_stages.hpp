@@ -15,6 +15,7 @@
 #include "core/scan_registration.hpp"
 #include "core/trajectory.hpp"
 #include "daemon/seams.hpp"
+#include "daemon/worker_pool.hpp"
 #include "drivers/rs16/decoder_stats.hpp"
 #include "drivers/rs16/scan_assembler.hpp"
 
@@ -41,7 +42,10 @@ class CoreFuserStage : public FuserStage {
 
 class CoreRegistrationStage : public RegistrationStage {
  public:
-  CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans);
+  // threads: the registration thread plus threads − 1 helpers (WorkerPool),
+  // each starting with on_helper_start(helper number).
+  CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans, std::size_t threads = 1,
+                        std::function<void(std::size_t)> on_helper_start = {});
 
   std::vector<std::string> stage_names() const override;
   bool add_points(const PointBlock& block) override;
@@ -58,6 +62,7 @@ class CoreRegistrationStage : public RegistrationStage {
   OdometryParams params_;
   rs16::ScanAssembler assembler_;
   rs16::DecoderStats assembly_stats_;
+  WorkerPool pool_;  // before registration_, which keeps a reference
   ScanRegistration registration_;
   Trajectory trajectory_;
   Scan held_;

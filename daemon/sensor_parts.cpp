@@ -1,6 +1,9 @@
 #include "daemon/sensor_parts.hpp"
 
 #include <memory>
+#include <string>
+
+#include <spdlog/spdlog.h>
 
 #include "daemon/core_stages.hpp"
 #include "daemon/driver_params.hpp"
@@ -8,6 +11,7 @@
 #include "daemon/lidar_parts.hpp"
 #include "daemon/pcap_recorder.hpp"
 #include "daemon/replay.hpp"
+#include "daemon/thread_setup.hpp"
 
 namespace tumble::daemon {
 
@@ -15,7 +19,15 @@ PipelineParts make_sensor_parts(boost::asio::io_context& io, const DaemonConfig&
   const OdometryParams params = odometry_params(config);
   PipelineParts parts;
   parts.fuser = std::make_unique<CoreFuserStage>(params);
-  parts.registration = std::make_unique<CoreRegistrationStage>(params, scan_assembler_config(config.lidar));
+  const int nice = config.daemon.registration_nice;
+  parts.registration = std::make_unique<CoreRegistrationStage>(
+      params, scan_assembler_config(config.lidar), static_cast<std::size_t>(config.daemon.registration_threads),
+      [nice](std::size_t helper) {
+        const std::string name = "tumble-reg-" + std::to_string(helper);
+        name_this_thread(name);
+        if (const std::string error = lower_this_thread_priority(nice); !error.empty())
+          spdlog::warn("{}: {}", name, error);
+      });
   parts.lidar_decoder = std::make_unique<Rs16LidarDecoder>(config.lidar);
   if (options.replay) {
     const auto replay = std::make_shared<Replay>(io, *options.replay, config.lidar, options.rate);

@@ -4,52 +4,13 @@
 
 #include <cmath>
 
+#include "test/core/room_drive.hpp"
 #include "test/core/synthetic_room.hpp"
 
 namespace tumble {
 namespace {
 
-constexpr double kGravity = 9.80665;
-
-// Static until t_go, then a smooth ramp (smoothstep over ramp_s) to a constant
-// velocity along a fixed world direction and a constant yaw rate: the lidar
-// stays level, so its body z is the world z and ω is (0, 0, yaw rate).
-struct YawAndDrive {
-  Eigen::Vector3d velocity_w{1.0, 0.3, 0.0};
-  double yaw_rate_rad_s = 1.5;
-  double t_go_s = 0.5;
-  double ramp_s = 0.5;
-
-  double tau(double t) const { return std::clamp((t - t_go_s) / ramp_s, 0.0, 1.0); }
-  double speed_fraction(double t) const {  // s(τ)
-    const double x = tau(t);
-    return x * x * (3 - 2 * x);
-  }
-  double integral(double t) const {  // ∫ s dt from t_go
-    if (t <= t_go_s) return 0;
-    const double x = tau(t);
-    return ramp_s * (x * x * x - x * x * x * x / 2) + std::max(0.0, t - t_go_s - ramp_s);
-  }
-  double speed_fraction_rate(double t) const {  // ds/dt
-    const double x = tau(t);
-    return (t <= t_go_s || x >= 1) ? 0.0 : 6 * x * (1 - x) / ramp_s;
-  }
-
-  Eigen::Isometry3d pose(double t) const {
-    Eigen::Isometry3d T = Eigen::Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(yaw_rate_rad_s * integral(t), Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() = velocity_w * integral(t);
-    return T;
-  }
-  ImuSample imu(double t) const {
-    ImuSample s;
-    s.t_s = t;
-    const Eigen::Vector3d a_w = velocity_w * speed_fraction_rate(t);
-    s.accel_m_s2 = pose(t).linear().transpose() * (a_w + Eigen::Vector3d(0, 0, kGravity));
-    s.gyro_rad_s = Eigen::Vector3d(0, 0, yaw_rate_rad_s * speed_fraction(t));
-    return s;
-  }
-};
+using test::YawAndDrive;
 
 OdometryParams test_params(bool deskew) {
   OdometryParams p;
