@@ -73,12 +73,15 @@ bool LocalMap::has_point_within(const Eigen::Vector3d& q_w, double distance_m) c
 }
 
 std::size_t LocalMap::find_insert_candidates(std::span<const Eigen::Vector3d> points_l, const Eigen::Isometry3d& T_wl,
-                                             std::vector<std::uint32_t>& candidates) const {
+                                             std::vector<std::uint32_t>& candidates) {
+  is_candidate_.resize(points_l.size());
+  runner_->run(points_l.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      is_candidate_[i] = has_point_within(T_wl * points_l[i], params_.min_point_distance_m) ? 0 : 1;
+  });
   candidates.clear();
-  for (std::size_t i = 0; i < points_l.size(); ++i) {
-    if (!has_point_within(T_wl * points_l[i], params_.min_point_distance_m))
-      candidates.push_back(static_cast<std::uint32_t>(i));
-  }
+  for (std::size_t i = 0; i < points_l.size(); ++i)
+    if (is_candidate_[i]) candidates.push_back(static_cast<std::uint32_t>(i));
   return candidates.size();
 }
 

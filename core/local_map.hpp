@@ -73,7 +73,7 @@ class LocalMap {
   // state most of a scan lands on mapped surfaces); insert() still checks
   // every point against the points inserted before it. Returns how many.
   std::size_t find_insert_candidates(std::span<const Eigen::Vector3d> points_l, const Eigen::Isometry3d& T_wl,
-                                     std::vector<std::uint32_t>& candidates) const;
+                                     std::vector<std::uint32_t>& candidates);
 
   // Drops every voxel whose centre is farther than radius_m from centre_w.
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
@@ -153,6 +153,7 @@ class LocalMap {
   std::size_t point_count_ = 0;
   std::uint32_t insert_count_ = 0;
   std::vector<std::uint32_t> new_points_;  // indices inserted by the current insert()
+  std::vector<std::uint8_t> is_candidate_;  // per point of find_insert_candidates()
   std::vector<std::vector<Neighbour>> neighbours_;  // per worker
   std::vector<CellKey> doomed_;
 };
