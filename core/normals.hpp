@@ -76,6 +76,17 @@ class CovarianceAccumulator {
   int count_ = 0;
 };
 
+// A fit with fewer than params.min_other_line_neighbours neighbours from
+// other scan lines becomes an invalid, line-like fit facing the sensor.
+inline void reject_single_line(PlaneFit& fit, int other_lines, const Eigen::Vector3d& query,
+                               const Eigen::Vector3d& viewpoint, const NormalParams& params) {
+  if (other_lines >= params.min_other_line_neighbours) return;
+  fit.valid = false;
+  fit.line_like = true;
+  const Eigen::Vector3d to_sensor = viewpoint - query;
+  if (to_sensor.norm() > 0) fit.normal = to_sensor.normalized();
+}
+
 // Normals for every point of a cloud from its neighbours in the same cloud,
 // the points' fits spread over `runner`'s threads.
 class NormalEstimator {
@@ -102,12 +113,7 @@ class NormalEstimator {
         if (line(buffer[j].index) != query_line) ++other_lines;
       }
       PlaneFit fit = acc.fit(viewpoint, params);
-      if (other_lines < params.min_other_line_neighbours) {
-        fit.valid = false;
-        fit.line_like = true;
-        const Eigen::Vector3d to_sensor = viewpoint - query;
-        if (to_sensor.norm() > 0) fit.normal = to_sensor.normalized();
-      }
+      reject_single_line(fit, other_lines, query, viewpoint, params);
       return fit;
     };
     PlaneFit fit = fit_k(params.k);

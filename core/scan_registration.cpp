@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -39,6 +40,7 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       clock_(std::move(clock)),
       downsampler_(params.voxel_size_m),
       normals_(params.reading_normals, runner),
+      line_normals_(params.reading_normals, params.scan_line_window, runner),
       icp_(icp_params_for(params), clock_, runner),
       map_(params.map, runner),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
@@ -107,6 +109,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     compute_point_weights(params_.weights, trajectory, input,
                           PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
   };
+  const bool from_scan_lines = params_.reading_normal_source == ReadingNormalSource::kScanLines;
   auto fit_normals = [&](std::span<const std::uint32_t> indices) {
     normals_todo_.clear();
     for (const std::uint32_t i : indices) {
@@ -114,19 +117,29 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
       normal_done_[i] = 1;
       normals_todo_.push_back(i);
     }
-    normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+    if (from_scan_lines) {
+      line_normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+    } else {
+      normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+    }
   };
   auto gather = [&](std::span<const std::uint32_t> indices, PointCloud& out) {
     out.resize(indices.size());
     for (std::size_t j = 0; j < indices.size(); ++j) out.copy_point(j, reading_, indices[j]);
   };
 
-  if (weigh_whole_scan) {
-    normals_.estimate(reading_, Eigen::Vector3d::Zero());
-    normal_done_.assign(reading_.size(), 1);
+  if (from_scan_lines) {
+    ring_elevations_rad(scan, ring_elevations_rad_);
+    line_normals_.index(reading_, ring_elevations_rad_);
   } else {
     normals_.index(reading_);
-    normal_done_.assign(reading_.size(), 0);
+  }
+  normal_done_.assign(reading_.size(), 0);
+  if (weigh_whole_scan) {
+    all_indices_.resize(reading_.size());
+    std::iota(all_indices_.begin(), all_indices_.end(), std::uint32_t{0});
+    fit_normals(all_indices_);
+  } else {
     fit_normals(registered_indices_);
   }
   lap(timing.normals_s);

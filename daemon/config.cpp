@@ -50,6 +50,8 @@ constexpr std::pair<std::string_view, WeightModel> kModels[] = {{"NM", WeightMod
                                                                 {"SAW", WeightModel::SAW}};
 constexpr std::pair<std::string_view, LidarClock> kClocks[] = {{"synced", LidarClock::Synced},
                                                                {"free", LidarClock::Free}};
+constexpr std::pair<std::string_view, ReadingNormalSource> kReadingNormalSources[] = {
+    {"knn", ReadingNormalSource::kNearest}, {"scan_lines", ReadingNormalSource::kScanLines}};
 constexpr std::pair<std::string_view, AttitudeSource> kAttitudeSources[] = {{"madgwick", AttitudeSource::Madgwick},
                                                                             {"device", AttitudeSource::Device}};
 constexpr std::pair<std::string_view, LogLevel> kLogLevels[] = {
@@ -105,6 +107,9 @@ void visit_config(Visitor& v, Config& c) {
     v.field("icp_voxel_size_m", r.icp_voxel_size_m, Range{0.0, 2.0});
     v.field("normal_k_map", r.normal_k_map, IntRange{3, 200});
     v.field("normal_k_reading", r.normal_k_reading, IntRange{3, 200});
+    v.field("reading_normals", r.reading_normals, Choice<ReadingNormalSource>{kReadingNormalSources});
+    v.field("scan_line_points_each_side", r.scan_line_points_each_side, IntRange{1, 50});
+    v.field("scan_line_rings_each_side", r.scan_line_rings_each_side, IntRange{1, 8});
     v.field("max_match_distance_m", r.max_match_distance_m, Range{0.01, 10.0});
     v.field("match_k", r.match_k, IntRange{1, 32});
     v.field("frmsd_min_ratio", r.frmsd_min_ratio, Range{0.05, 1.0});

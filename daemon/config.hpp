@@ -19,6 +19,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/scan_line_normals.hpp"
 #include "daemon/records.hpp"
 
 namespace tumble::daemon {
@@ -79,6 +80,9 @@ struct RegistrationConfig {
   double icp_voxel_size_m = 0.2;
   int normal_k_map = 20;
   int normal_k_reading = 15;
+  ReadingNormalSource reading_normals = ReadingNormalSource::kNearest;
+  int scan_line_points_each_side = 5;
+  int scan_line_rings_each_side = 2;
   double max_match_distance_m = 1.0;
   int match_k = 1;
   double frmsd_min_ratio = 0.5;

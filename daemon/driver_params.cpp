@@ -17,6 +17,9 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.voxel_size_m = r.voxel_size_m;
   p.registration_voxel_size_m = r.icp_voxel_size_m;
   p.reading_normals.k = r.normal_k_reading;
+  p.reading_normal_source = r.reading_normals;
+  p.scan_line_window.points_each_side = r.scan_line_points_each_side;
+  p.scan_line_window.rings_each_side = r.scan_line_rings_each_side;
 
   p.map.normals.k = r.normal_k_map;
   p.map.radius_m = config.map.radius_m;

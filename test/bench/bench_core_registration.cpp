@@ -16,6 +16,7 @@
 #include "core/normals.hpp"
 #include "core/odometry.hpp"
 #include "core/voxel_grid.hpp"
+#include "daemon/worker_pool.hpp"
 #include "test/core/synthetic_room.hpp"
 
 // Every heap allocation of the process is counted, so a stage's steady-state
@@ -186,11 +187,17 @@ void BM_IcpAlign(benchmark::State& state) {
 }
 BENCHMARK(BM_IcpAlign)->Unit(benchmark::kMillisecond);
 
-// The stages' clock: this thread's CPU time, so that the figures are "on one
-// core" and do not grow when other processes share the machine.
+// The stages' clock on one thread: this thread's CPU time, so that the
+// figures are "on one core" and do not grow when other processes share the
+// machine. With helper threads, the time until the scan is done: wall time.
 double seconds_now() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+double wall_seconds_now() {
+  timespec t{};
+  clock_gettime(CLOCK_MONOTONIC, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
 }
 
@@ -203,14 +210,19 @@ double median(std::vector<double> v) {
 // One RS-16 scan per iteration through Odometry::add_imu/add_scan, the sensor
 // circling the room; scan generation (ray casting) is not timed. Counters: the
 // median per-scan and per-stage times from the injected clock, and heap
-// allocations per scan after the first 30 scans (steady state). The argument
-// is OdometryParams::registration_voxel_size_m in cm; -1: the default.
+// allocations per scan after the first 30 scans (steady state). Arguments:
+// OdometryParams::registration_voxel_size_m in cm (-1: the default); threads
+// (1: the calling thread, CPU time; more: a daemon WorkerPool, wall time);
+// reading normals from the scan's lines (1) or the k nearest (0).
 void BM_OdometryScanGVTW(benchmark::State& state) {
   const CircleMotion motion;
   OdometryParams params;
   params.weights.model = WeightModel::GVTW;
   if (state.range(0) >= 0) params.registration_voxel_size_m = 0.01 * static_cast<double>(state.range(0));
-  Odometry odometry(params, seconds_now);
+  if (state.range(2) != 0) params.reading_normal_source = ReadingNormalSource::kScanLines;
+  const auto threads = static_cast<std::size_t>(state.range(1));
+  daemon::WorkerPool pool(threads);
+  Odometry odometry(params, threads > 1 ? wall_seconds_now : seconds_now, pool);
   std::vector<double> total, deskew, downsample, normals, weights, registration, icp_matching, icp_solve, fuser,
       map_update;
   std::vector<double> iterations, registered_points, inserted_points;
@@ -292,9 +304,12 @@ void BM_OdometryScanGVTW(benchmark::State& state) {
 BENCHMARK(BM_OdometryScanGVTW)
     ->Unit(benchmark::kMillisecond)
     ->Iterations(150)
-    ->ArgName("registration_voxel_cm")
-    ->Arg(-1)  // the default
-    ->Arg(0);  // every down-sampled point, as the paper
+    ->ArgNames({"registration_voxel_cm", "threads", "scan_lines"})
+    ->Args({-1, 1, 0})  // the default, on one core
+    ->Args({0, 1, 0})   // every down-sampled point, as the paper
+    ->Args({-1, 2, 0})  // tumbled's default on this 2-core machine
+    ->Args({-1, 1, 1})  // reading normals from the scan's lines
+    ->Args({-1, 2, 1});
 
 }  // namespace
 }  // namespace tumble

@@ -118,6 +118,16 @@ TEST(Odometry, TracksASmoothDriveAndTurnInARoom) {
   }
 }
 
+TEST(Odometry, TracksTheDriveWithScanLineNormalsToo) {
+  OdometryParams params = test_params(true);
+  params.reading_normal_source = ReadingNormalSource::kScanLines;
+  const RunSummary s = run(YawAndDrive{}, params, kRunDuration_s, small_lidar());
+  ASSERT_GE(s.results.size(), static_cast<std::size_t>((kRunDuration_s - 0.3) / 0.1) - 1);
+  for (const ScanResult& r : s.results) EXPECT_TRUE(r.registered) << r.scan_index;
+  EXPECT_LT(s.max_translation_error_m, test::kCoarseTests ? 0.03 : 5e-3);
+  EXPECT_LT(s.max_rotation_error_rad, (test::kCoarseTests ? 0.5 : 0.15) * M_PI / 180);
+}
+
 TEST(Odometry, DeskewingBeatsNoDeskewingUnderFastRotation) {
   YawAndDrive motion;
   motion.yaw_rate_rad_s = 6.0;  // 34 degrees per revolution of the lidar

@@ -92,23 +92,27 @@ TEST(WorkerPool, OneThreadRunsEverythingOnTheCaller) {
 // (so `--rate max` replays stay byte-identical), and under ThreadSanitizer
 // no data race in the shared loops.
 TEST(WorkerPool, ScanRegistrationOnThreeThreadsMatchesOneThread) {
-  const test::YawAndDrive motion;
-  OdometryParams params;
-  params.fuser.static_duration_s = 0.3;
-  test::RingLidar lidar;
-  lidar.columns = test::full_or_coarse(600, 120);
-  const double duration_s = test::full_or_coarse(1.2, 0.8);
-  const std::vector<ScanResult> serial = test::register_room_drive(motion, params, duration_s, lidar);
-  WorkerPool pool(3);
-  const std::vector<ScanResult> pooled = test::register_room_drive(motion, params, duration_s, lidar, pool);
-  ASSERT_GE(serial.size(), 5u);
-  ASSERT_EQ(pooled.size(), serial.size());
-  for (std::size_t s = 0; s < serial.size(); ++s) {
-    SCOPED_TRACE(s);
-    EXPECT_TRUE(serial[s].T_wl.matrix() == pooled[s].T_wl.matrix());
-    EXPECT_EQ(serial[s].iterations, pooled[s].iterations);
-    EXPECT_EQ(serial[s].residual_rms_m, pooled[s].residual_rms_m);
-    EXPECT_EQ(serial[s].map_points, pooled[s].map_points);
+  for (const ReadingNormalSource source : {ReadingNormalSource::kNearest, ReadingNormalSource::kScanLines}) {
+    SCOPED_TRACE(source == ReadingNormalSource::kNearest ? "k nearest" : "scan lines");
+    const test::YawAndDrive motion;
+    OdometryParams params;
+    params.fuser.static_duration_s = 0.3;
+    params.reading_normal_source = source;
+    test::RingLidar lidar;
+    lidar.columns = test::full_or_coarse(600, 120);
+    const double duration_s = test::full_or_coarse(1.2, 0.8);
+    const std::vector<ScanResult> serial = test::register_room_drive(motion, params, duration_s, lidar);
+    WorkerPool pool(3);
+    const std::vector<ScanResult> pooled = test::register_room_drive(motion, params, duration_s, lidar, pool);
+    ASSERT_GE(serial.size(), 5u);
+    ASSERT_EQ(pooled.size(), serial.size());
+    for (std::size_t s = 0; s < serial.size(); ++s) {
+      SCOPED_TRACE(s);
+      EXPECT_TRUE(serial[s].T_wl.matrix() == pooled[s].T_wl.matrix());
+      EXPECT_EQ(serial[s].iterations, pooled[s].iterations);
+      EXPECT_EQ(serial[s].residual_rms_m, pooled[s].residual_rms_m);
+      EXPECT_EQ(serial[s].map_points, pooled[s].map_points);
+    }
   }
 }
 
