@@ -31,8 +31,10 @@ void ScanLineNormals::index(const PointCloud& cloud, std::span<const double> rin
   const auto elevation = [&](std::uint16_t ring) {
     return ring < ring_elevation_rad.size() ? ring_elevation_rad[ring] : std::numeric_limits<double>::infinity();
   };
-  std::stable_sort(ring_at_rank.begin(), ring_at_rank.end(),
-                   [&](std::uint16_t a, std::uint16_t b) { return elevation(a) < elevation(b); });
+  // std::sort with ties broken by index: stable, and unlike std::stable_sort no allocation.
+  std::sort(ring_at_rank.begin(), ring_at_rank.end(), [&](std::uint16_t a, std::uint16_t b) {
+    return elevation(a) < elevation(b) || (elevation(a) == elevation(b) && a < b);
+  });
   for (std::size_t rank = 0; rank < kRings; ++rank) rank_of_ring_[ring_at_rank[rank]] = static_cast<std::uint16_t>(rank);
 
   rank_begin_.fill(0);
@@ -44,8 +46,10 @@ void ScanLineNormals::index(const PointCloud& cloud, std::span<const double> rin
   for (std::size_t i = 0; i < cloud.size(); ++i) by_rank_[next[rank_of_ring_[cloud.rings[i]]]++] = static_cast<std::uint32_t>(i);
   for (std::size_t rank = 0; rank < kRings; ++rank) {
     if (rank_begin_[rank] == rank_begin_[rank + 1]) continue;
-    std::stable_sort(by_rank_.begin() + rank_begin_[rank], by_rank_.begin() + rank_begin_[rank + 1],
-                     [&](std::uint32_t a, std::uint32_t b) { return cloud.times_s[a] < cloud.times_s[b]; });
+    std::sort(by_rank_.begin() + rank_begin_[rank], by_rank_.begin() + rank_begin_[rank + 1],
+              [&](std::uint32_t a, std::uint32_t b) {
+                return cloud.times_s[a] < cloud.times_s[b] || (cloud.times_s[a] == cloud.times_s[b] && a < b);
+              });
   }
   position_.resize(cloud.size());
   for (std::size_t p = 0; p < by_rank_.size(); ++p) position_[by_rank_[p]] = static_cast<std::uint32_t>(p);
