@@ -42,28 +42,13 @@ struct RunSummary {
   std::size_t fused_poses = 0;
 };
 
-// Feeds 100 Hz IMU samples and 10 Hz scans of the room in time order: a scan
-// is handed over when its last point has been fired.
+// Runs the drive through the room and compares each registered pose with the truth.
 RunSummary run(const YawAndDrive& motion, const OdometryParams& params, double duration_s, const test::RingLidar& lidar) {
-  const test::Room room = test::make_room();
   Odometry odometry(params);
   RunSummary summary;
   odometry.set_scan_callback([&](const ScanResult& r) { summary.results.push_back(r); });
   odometry.set_pose_callback([&](const TrajectorySample&) { ++summary.fused_poses; });
-  const double imu_dt = 0.01;
-  double next_scan_start = 0.0;
-  std::uint64_t scan_index = 0;
-  for (int k = 0; k * imu_dt <= duration_s; ++k) {
-    const double t = k * imu_dt;
-    odometry.add_imu(motion.imu(t));
-    while (next_scan_start + lidar.revolution_s <= t) {
-      Scan scan;
-      scan.index = scan_index++;
-      scan.points = test::scan_room(room, [&](double ts) { return motion.pose(ts); }, next_scan_start, lidar);
-      odometry.add_scan(scan);
-      next_scan_start += lidar.revolution_s;
-    }
-  }
+  test::feed_room_drive(odometry, motion, duration_s, lidar);
   for (const ScanResult& r : summary.results) {
     const Eigen::Isometry3d truth = motion.pose(r.t_scan_start_s);
     const double dt = (r.T_wl.translation() - truth.translation()).norm();

@@ -3,6 +3,8 @@
 // IMU samples that motion gives and RS-16-like scans of the room.
 #pragma once
 
+#include <gtest/gtest.h>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cstdint>
@@ -56,15 +58,10 @@ struct YawAndDrive {
   }
 };
 
-// Every scan result of `duration_s` of the drive: 100 Hz IMU samples and
-// 10 Hz scans fed in time order (a scan when its last point has been fired).
-inline std::vector<ScanResult> register_room_drive(const YawAndDrive& motion, const OdometryParams& params,
-                                                   double duration_s, const RingLidar& lidar,
-                                                   ParallelRunner& runner = serial_runner()) {
+// Feeds `odometry` duration_s of the drive: 100 Hz IMU samples and 10 Hz
+// scans in time order (a scan when its last point has been fired).
+inline void feed_room_drive(Odometry& odometry, const YawAndDrive& motion, double duration_s, const RingLidar& lidar) {
   const Room room = make_room();
-  Odometry odometry(params, {}, runner);
-  std::vector<ScanResult> results;
-  odometry.set_scan_callback([&](const ScanResult& r) { results.push_back(r); });
   const double imu_dt = 0.01;
   double next_scan_start = 0.0;
   std::uint64_t scan_index = 0;
@@ -79,7 +76,32 @@ inline std::vector<ScanResult> register_room_drive(const YawAndDrive& motion, co
       next_scan_start += lidar.revolution_s;
     }
   }
+}
+
+// Every scan result of duration_s of the drive, the registration's loops on `runner`.
+inline std::vector<ScanResult> register_room_drive(const YawAndDrive& motion, const OdometryParams& params,
+                                                   double duration_s, const RingLidar& lidar,
+                                                   ParallelRunner& runner = serial_runner()) {
+  Odometry odometry(params, {}, runner);
+  std::vector<ScanResult> results;
+  odometry.set_scan_callback([&](const ScanResult& r) { results.push_back(r); });
+  feed_room_drive(odometry, motion, duration_s, lidar);
   return results;
+}
+
+// Two runs gave the same results, to the last bit.
+inline void expect_same_results(const std::vector<ScanResult>& expected, const std::vector<ScanResult>& actual) {
+  ASSERT_GE(expected.size(), 5u);
+  ASSERT_EQ(actual.size(), expected.size());
+  for (std::size_t s = 0; s < expected.size(); ++s) {
+    SCOPED_TRACE(s);
+    EXPECT_TRUE(expected[s].T_wl.matrix() == actual[s].T_wl.matrix());
+    EXPECT_EQ(expected[s].iterations, actual[s].iterations);
+    EXPECT_EQ(expected[s].inlier_ratio, actual[s].inlier_ratio);
+    EXPECT_EQ(expected[s].residual_rms_m, actual[s].residual_rms_m);
+    EXPECT_EQ(expected[s].map_points, actual[s].map_points);
+    EXPECT_EQ(expected[s].map_insert.inserted, actual[s].map_insert.inserted);
+  }
 }
 
 }  // namespace tumble::test
