@@ -63,9 +63,10 @@ TEST(ScanLineNormals, RoomNormalsAreTheFaceNormals) {
   }
   // The rest straddle an edge within the curvature limit. Measured: 99 % valid,
   // 87 % of them within 5 deg (k-nearest normals of the same cloud: 99 %, 90 %:
-  // a window two rings high reaches farther across an edge).
+  // a window two rings high reaches farther across an edge); coarse builds'
+  // sparser scan: 84 %.
   EXPECT_GT(valid, cloud.size() * 95 / 100);
-  EXPECT_GT(axis_aligned, valid * 85 / 100);
+  EXPECT_GT(axis_aligned, valid * test::full_or_coarse(85, 80) / 100);
 }
 
 // A wall 5 m ahead seen by 16 lasers numbered as on the RS-16: 0..7 upward
