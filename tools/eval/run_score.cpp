@@ -50,7 +50,7 @@ std::string score_markdown(const RunScore& score) {
   }
   if (!score.total) return md;
   std::snprintf(text, sizeof text,
-                "\nScans: %zu, registered %zu, ICP converged %zu. time per scan (ms elapsed; budget 100 ms at 10 Hz):\n\n",
+                "\nScans: %zu, registered %zu, ICP converged %zu. Time per scan (ms elapsed; budget 100 ms at 10 Hz):\n\n",
                 score.scans, score.registered, score.converged);
   md += text;
   md += "| stage | mean | p50 | p99 | max |\n|---|---|---|---|---|\n";
