@@ -56,10 +56,7 @@ void NormalEstimator::fit_point(PointCloud& cloud, const Eigen::Vector3d& viewpo
   };
   auto position = [&](std::uint32_t index) -> const Eigen::Vector3d& { return cloud.points[index]; };
   auto line = [&](std::uint32_t index) -> std::uint32_t { return cloud.rings[index]; };
-  const PlaneFit fit = fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, buffer, knn, position, line);
-  cloud.normals[i] = fit.normal;
-  cloud.curvatures[i] = fit.curvature;
-  cloud.normal_valid[i] = fit.valid ? 1 : 0;
+  store_fit(cloud, i, fit_neighbourhood(cloud.points[i], cloud.rings[i], viewpoint, params_, buffer, knn, position, line));
 }
 
 void NormalEstimator::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint) {

@@ -87,6 +87,13 @@ inline void reject_single_line(PlaneFit& fit, int other_lines, const Eigen::Vect
   if (to_sensor.norm() > 0) fit.normal = to_sensor.normalized();
 }
 
+// Writes a fit into point i's normal, curvature and normal_valid.
+inline void store_fit(PointCloud& cloud, std::size_t i, const PlaneFit& fit) {
+  cloud.normals[i] = fit.normal;
+  cloud.curvatures[i] = fit.curvature;
+  cloud.normal_valid[i] = fit.valid ? 1 : 0;
+}
+
 // Normals for every point of a cloud from its neighbours in the same cloud,
 // the points' fits spread over `runner`'s threads.
 class NormalEstimator {

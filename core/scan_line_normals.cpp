@@ -5,6 +5,7 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <string>
 
 namespace tumble {
 
@@ -21,7 +22,9 @@ void ring_elevations_rad(const Scan& scan, std::vector<double>& elevations) {
 ScanLineNormals::ScanLineNormals(const NormalParams& params, const ScanLineWindow& window, ParallelRunner& runner)
     : params_(params), window_(window), runner_(&runner) {
   if (window.points_each_side < 1) throw std::invalid_argument("scan-line normals: points_each_side must be >= 1");
-  if (window.rings_each_side < 1) throw std::invalid_argument("scan-line normals: rings_each_side must be >= 1");
+  if (window.rings_each_side < 1 || window.rings_each_side > kMaxRingsEachSide)
+    throw std::invalid_argument("scan-line normals: rings_each_side must be in [1, " +
+                                std::to_string(kMaxRingsEachSide) + "]");
 }
 
 void ScanLineNormals::index(const PointCloud& cloud, std::span<const double> ring_elevation_rad) {
@@ -56,47 +59,45 @@ void ScanLineNormals::index(const PointCloud& cloud, std::span<const double> rin
 }
 
 PlaneFit ScanLineNormals::fit_point(const PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::uint32_t i) const {
-  // The nearest rings first, as the k-nearest fit starts small: a wider
-  // window reaches farther across edges (cage bench: the first pose error of
-  // the typical run 4 % lower than with rings_each_side at once).
-  for (int rings = 1; rings < window_.rings_each_side; ++rings) {
-    const PlaneFit fit = fit_window(cloud, viewpoint, i, rings);
-    if (!fit.line_like) return fit;
-  }
-  return fit_window(cloud, viewpoint, i, window_.rings_each_side);
-}
-
-PlaneFit ScanLineNormals::fit_window(const PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::uint32_t i,
-                                     int rings_each_side) const {
-  const Eigen::Vector3d& q = cloud.points[i];
-  const double radius_sq = params_.max_radius_m * params_.max_radius_m;
+  // Each ring's stretch of the widest window, found once (on another ring,
+  // the point fired at the same time looks the same way).
   const int own_rank = rank_of_ring_[cloud.rings[i]];
   const auto w = static_cast<std::ptrdiff_t>(window_.points_each_side);
-  CovarianceAccumulator acc(q);
-  int other_lines = 0;
-  const int first_rank = std::max(0, own_rank - rings_each_side);
-  const int last_rank = std::min(static_cast<int>(kRings) - 1, own_rank + rings_each_side);
+  std::array<RingStretch, 2 * kMaxRingsEachSide + 1> stretches;
+  const int first_rank = std::max(0, own_rank - window_.rings_each_side);
+  const int last_rank = std::min(static_cast<int>(kRings) - 1, own_rank + window_.rings_each_side);
   for (int rank = first_rank; rank <= last_rank; ++rank) {
     const auto first = by_rank_.begin() + rank_begin_[static_cast<std::size_t>(rank)];
     const auto last = by_rank_.begin() + rank_begin_[static_cast<std::size_t>(rank) + 1];
-    if (first == last) continue;
-    // On another ring, the point fired at the same time looks the same way.
     const auto centre = rank == own_rank ? by_rank_.begin() + position_[i]
                                          : std::lower_bound(first, last, cloud.times_s[i], [&](std::uint32_t a, double t) {
                                              return cloud.times_s[a] < t;
                                            });
-    const auto begin = centre - std::min(w, centre - first);
-    const auto end = centre + std::min(w + 1, last - centre);
-    for (auto it = begin; it != end; ++it) {
-      const Eigen::Vector3d& p = cloud.points[*it];
-      if ((p - q).squaredNorm() >= radius_sq) continue;
-      acc.add(p);
-      if (rank != own_rank) ++other_lines;
-    }
+    stretches[static_cast<std::size_t>(rank - first_rank)] =
+        first == last ? RingStretch{first, first}
+                      : RingStretch{centre - std::min(w, centre - first), centre + std::min(w + 1, last - centre)};
   }
-  PlaneFit fit = acc.fit(viewpoint, params_);
-  reject_single_line(fit, other_lines, q, viewpoint, params_);
-  return fit;
+  // The nearest rings first, as the k-nearest fit starts small: a wider
+  // window reaches farther across edges (cage bench: the first pose error of
+  // the typical run 4 % lower than with rings_each_side at once).
+  const Eigen::Vector3d& q = cloud.points[i];
+  const double radius_sq = params_.max_radius_m * params_.max_radius_m;
+  for (int rings = 1;; ++rings) {
+    CovarianceAccumulator acc(q);
+    int other_lines = 0;
+    for (int rank = std::max(first_rank, own_rank - rings); rank <= std::min(last_rank, own_rank + rings); ++rank) {
+      const RingStretch& stretch = stretches[static_cast<std::size_t>(rank - first_rank)];
+      for (auto it = stretch.begin; it != stretch.end; ++it) {
+        const Eigen::Vector3d& p = cloud.points[*it];
+        if ((p - q).squaredNorm() >= radius_sq) continue;
+        acc.add(p);
+        if (rank != own_rank) ++other_lines;
+      }
+    }
+    PlaneFit fit = acc.fit(viewpoint, params_);
+    reject_single_line(fit, other_lines, q, viewpoint, params_);
+    if (!fit.line_like || rings >= window_.rings_each_side) return fit;
+  }
 }
 
 void ScanLineNormals::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoint,
@@ -104,10 +105,7 @@ void ScanLineNormals::estimate(PointCloud& cloud, const Eigen::Vector3d& viewpoi
   runner_->run(indices.size(), [&](std::size_t, std::size_t begin, std::size_t end) {
     for (std::size_t j = begin; j < end; ++j) {
       const std::uint32_t i = indices[j];
-      const PlaneFit fit = fit_point(cloud, viewpoint, i);
-      cloud.normals[i] = fit.normal;
-      cloud.curvatures[i] = fit.curvature;
-      cloud.normal_valid[i] = fit.valid ? 1 : 0;
+      store_fit(cloud, i, fit_point(cloud, viewpoint, i));
     }
   });
 }

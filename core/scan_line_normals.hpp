@@ -39,7 +39,10 @@ void ring_elevations_rad(const Scan& scan, std::vector<double>& elevations);
 
 class ScanLineNormals {
  public:
-  // Throws std::invalid_argument for a window under 1 point or 1 ring.
+  static constexpr int kMaxRingsEachSide = 8;  // ScanLineWindow::rings_each_side, at most
+
+  // Throws std::invalid_argument for a window under 1 point, or under 1 or
+  // over kMaxRingsEachSide rings.
   ScanLineNormals(const NormalParams& params, const ScanLineWindow& window, ParallelRunner& runner = serial_runner());
 
   // Orders the cloud's points by ring elevation (ring_elevation_rad[ring])
@@ -51,9 +54,12 @@ class ScanLineNormals {
 
  private:
   static constexpr std::size_t kRings = 256;  // every LidarPoint::laser value
+  using RankIterator = std::vector<std::uint32_t>::const_iterator;
+  struct RingStretch {  // a ring's part of a window, in by_rank_
+    RankIterator begin;
+    RankIterator end;
+  };
   PlaneFit fit_point(const PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::uint32_t i) const;
-  PlaneFit fit_window(const PointCloud& cloud, const Eigen::Vector3d& viewpoint, std::uint32_t i,
-                      int rings_each_side) const;
 
   NormalParams params_;
   ScanLineWindow window_;

@@ -133,5 +133,11 @@ TEST(ScanLineNormals, RejectsAnEmptyWindow) {
   EXPECT_THROW(ScanLineNormals(NormalParams{}, ScanLineWindow{.rings_each_side = 0}), std::invalid_argument);
 }
 
+TEST(ScanLineNormals, RejectsMoreRingsThanItIndexes) {
+  EXPECT_NO_THROW(ScanLineNormals(NormalParams{}, ScanLineWindow{.rings_each_side = ScanLineNormals::kMaxRingsEachSide}));
+  EXPECT_THROW(ScanLineNormals(NormalParams{}, ScanLineWindow{.rings_each_side = ScanLineNormals::kMaxRingsEachSide + 1}),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace tumble
