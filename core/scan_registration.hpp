@@ -50,7 +50,7 @@ struct OdometryParams {
   // (algorithm.md §4; k and the line retry in reading_normals), or a window
   // of the scan's rings (ScanLineNormals; reading_normals' limits still
   // apply). Ours: on the 82-run simulated bench (GVTW, de-skew) the window
-  // makes the normals 4-5x and a whole replay 1.75x faster; error median
+  // makes the normals 4-5x and a whole replay 1.5x faster; error median
   // 0.52 vs 0.53 cm/m, max 27 vs 53, but the typical run's error 4 % higher
   // (README, Speed). Not better everywhere, so the default stays the method's.
   ReadingNormalSource reading_normal_source = ReadingNormalSource::kNearest;
