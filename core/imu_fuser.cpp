@@ -109,7 +109,13 @@ void ImuFuser::add_imu(const ImuSample& sample) {
 
   const HistoryEntry& previous = history_.back();
   const double dt = sample.t_s - previous.t_s;
-  if (dt > params_.max_imu_gap_s) ++stats_.imu_gaps;
+  if (dt > params_.max_imu_gap_s) {
+    ++stats_.imu_gaps;
+    if (anchor_ && (previous_anchor_ || previous_registration_)) {
+      reanchor(sample);
+      return;
+    }
+  }
 
   HistoryEntry entry;
   entry.t_s = sample.t_s;
@@ -141,6 +147,47 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   ++stats_.samples;
   if (any(entry.gyro_clipped)) ++stats_.gyro_saturated_samples;
   if (any(entry.accel_clipped)) ++stats_.accel_saturated_samples;
+}
+
+void ImuFuser::reanchor(const ImuSample& sample) {
+  const RegisteredPose& a = *anchor_;
+  const RegisteredPose& b = previous_anchor_ ? *previous_anchor_ : *previous_registration_;
+  const double dt_ab = std::max(a.t_s - b.t_s, 1e-3);
+  const Eigen::Vector3d v_wi = (a.p_wi - b.p_wi) / dt_ab;
+  const Eigen::AngleAxisd turn((b.q_wi.conjugate() * a.q_wi).normalized());
+  const Eigen::Vector3d rate_i = turn.angle() * turn.axis() / dt_ab;
+  const double h = sample.t_s - a.t_s;
+  const Eigen::Vector3d rotation_i = rate_i * h;
+  const Eigen::Quaterniond step =
+      rotation_i.norm() > 0 ? Eigen::Quaterniond(Eigen::AngleAxisd(rotation_i.norm(), rotation_i.normalized()))
+                            : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond q_wi = (a.q_wi * step).normalized();
+  madgwick_.set_orientation(q_wi);
+  if (device_alignment_ && sample.has_orientation) device_alignment_ = q_wi * sample.orientation.conjugate();
+
+  HistoryEntry entry;
+  entry.t_s = sample.t_s;
+  entry.accel_i = sample.accel_m_s2;
+  entry.gyro_clipped_i = sample.gyro_rad_s - gyro_bias_;
+  entry.accel_clipped = sample.accel_saturated;
+  entry.gyro_clipped = sample.gyro_saturated;
+  entry.gyro_i = any(entry.gyro_clipped) ? unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped)
+                                         : entry.gyro_clipped_i;
+  entry.q_wi = q_wi;
+  entry.accel_w = gravity_free_accel(q_wi, entry.accel_i);
+  entry.state.v_w = v_wi;
+  entry.state.p_w = a.p_wi + v_wi * h;
+  entry.state.variance.setConstant((a.sigma_m * a.sigma_m + b.sigma_m * b.sigma_m) / (dt_ab * dt_ab));
+  history_.clear();
+  trajectory_.clear();
+  history_.push_back(entry);
+  trajectory_.push_back(to_trajectory_sample(entry));
+  previous_registration_ = a;
+  lidar_rate_i_rad_s_ = rate_i;
+  anchor_.reset();
+  previous_anchor_.reset();
+  ++stats_.samples;
+  ++stats_.reanchors;
 }
 
 void ImuFuser::accumulate_static(const ImuSample& sample) {
@@ -235,10 +282,22 @@ CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, c
     ++stats_.corrections_before_init;
     return result;
   }
+  if (t_scan_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
+    const RegisteredPose pose{t_scan_start_s, T_wl * params_.T_li.translation(),
+                              (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized(), position_sigma_m};
+    if (!anchor_ || t_scan_start_s > anchor_->t_s) {
+      previous_anchor_ = anchor_;
+      anchor_ = pose;
+      ++stats_.anchors_while_imu_silent;
+      return result;
+    }
+  }
   if (!(t_scan_start_s > history_.front().t_s && t_scan_start_s <= history_.back().t_s)) {
     ++stats_.corrections_outside_history;
     return result;
   }
+  anchor_.reset();
+  previous_anchor_.reset();
 
   const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized();
   PoseReset reset;

@@ -61,6 +61,15 @@
 //    "Touches" = a direction cosine above 0.1 (the IMU→lidar and W→lidar
 //    axis mappings use the same threshold).
 //
+// 7. IMU gaps (ours, issue 13): while the IMU is silent the registration
+//    predicts each scan from the registered poses themselves; their
+//    corrections come after the newest sample and are kept as anchors. When
+//    samples return after a gap longer than max_imu_gap_s with an anchor in
+//    it, the fuser starts again from the newest anchor, carried to the
+//    sample by the motion between the last two registered poses (constant
+//    velocity and body rate), instead of integrating one sample across the
+//    gap. The history starts again there.
+//
 // Bounded: the IMU history is a fixed ring (`history_capacity` samples, a few
 // seconds at up to 1 kHz) and so is the output trajectory. No allocation per
 // sample or per correction after construction.
@@ -120,6 +129,8 @@ struct ImuFuserStats {
   std::uint64_t corrections_before_init = 0;     // rejected
   std::uint64_t corrections_outside_history = 0; // rejected: t older than the history or newer than the IMU
   std::uint64_t velocity_updates_skipped = 0;    // interval too long, non-positive, or older than the history
+  std::uint64_t anchors_while_imu_silent = 0;    // corrections newer than the newest sample (header, 7)
+  std::uint64_t reanchors = 0;                   // restarts from an anchor after an IMU gap
 };
 
 struct CorrectionResult {
@@ -185,6 +196,7 @@ class ImuFuser {
   };
 
   void accumulate_static(const ImuSample& sample);
+  void reanchor(const ImuSample& sample);
   void initialize(const ImuSample& last_sample);
   Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
   // The gyro a clipped sample most likely saw (header, 6).
@@ -226,6 +238,8 @@ class ImuFuser {
     double sigma_m = 0.0;
   };
   std::optional<RegisteredPose> previous_registration_;
+  std::optional<RegisteredPose> anchor_;           // the newest correction after the newest sample
+  std::optional<RegisteredPose> previous_anchor_;  // the one before it
   // Mean IMU body rate between the last two registered poses (header, 6).
   std::optional<Eigen::Vector3d> lidar_rate_i_rad_s_;
   ImuFuserStats stats_;

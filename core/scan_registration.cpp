@@ -38,6 +38,7 @@ void check_odometry_params(const OdometryParams& p) {
 ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, ParallelRunner& runner)
     : params_(checked(params)),
       clock_(std::move(clock)),
+      runner_(runner),
       downsampler_(params.voxel_size_m),
       normals_(params.reading_normals, runner),
       line_normals_(params.reading_normals, params.scan_line_window, runner),
@@ -45,7 +46,14 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       map_(params.map, runner),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
+void ScanRegistration::reset_map() { map_ = LocalMap(params_.map, runner_); }
+
 ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result) {
+  return process(scan, trajectory, result, ScanConditions{.deskew = params_.deskew});
+}
+
+ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result,
+                                      const ScanConditions& conditions) {
   const double t_start = scan.points.front().t_s;
   if (t_start <= last_scan_start_s_) return ScanOutcome::OutOfOrder;
   last_scan_start_s_ = t_start;
@@ -69,7 +77,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   // De-skew into the lidar frame at the scan's first point.
   const std::size_t n = scan.points.size();
   raw_.resize(n);
-  deskew_scan(scan, trajectory, params_.deskew, raw_.points);
+  deskew_scan(scan, trajectory, conditions.deskew, raw_.points);
   for (std::size_t i = 0; i < n; ++i) {
     raw_.times_s[i] = scan.points[i].t_s;
     raw_.rings[i] = scan.points[i].laser;
@@ -105,7 +113,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     input.rings = cloud.rings;
     input.t_scan_start_s = t_start;
     input.t_scan_end_s = t_last;
-    input.deskewed = params_.deskew;
+    input.deskewed = conditions.deskew;
     compute_point_weights(params_.weights, trajectory, input,
                           PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
   };
@@ -164,6 +172,15 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.degeneracy = icp.degeneracy;
     timing.icp_matching_s = icp.matching_s;
     timing.icp_solve_s = icp.solve_s;
+    result.translation_from_prediction_m = (icp.T_wl.translation() - predicted.translation()).norm();
+    result.rotation_from_prediction_rad =
+        Eigen::AngleAxisd(predicted.rotation().transpose() * icp.T_wl.rotation()).angle();
+    const auto beyond = [](double value, double limit) { return limit > 0 && value > limit; };
+    if (result.registered && (beyond(result.translation_from_prediction_m, conditions.max_translation_m) ||
+                              beyond(result.rotation_from_prediction_rad, conditions.max_rotation_rad))) {
+      result.registered = false;
+      result.rejected = true;
+    }
     if (result.registered) result.T_wl = icp.T_wl;
   }
   const double trace_sigma = std::sqrt(std::max(result.covariance.topLeftCorner<3, 3>().trace() / 3.0, 0.0));

@@ -100,7 +100,10 @@ struct ScanResult {
   Matrix6d covariance = Matrix6d::Identity();              // IcpResult::covariance
   double position_sigma_m = 0;   // what the fuser's velocity filter is told
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
-  bool registered = false;       // false: too few matches, the fuser's pose is kept
+  bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
+  bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used
+  double translation_from_prediction_m = 0;  // ICP's pose vs the trajectory's, at the scan start
+  double rotation_from_prediction_rad = 0;
   bool converged = false;
   int iterations = 0;
   double inlier_ratio = 0;
@@ -123,6 +126,18 @@ enum class ScanOutcome {
   OutOfOrder,  // starts at or before the previous scan
 };
 
+// When the sensors were not all there (the daemon, issue 13): how to take one scan.
+struct ScanConditions {
+  // false: the trajectory is only a prediction (no IMU over the scan), so the
+  // scan is not de-skewed and gets the no-de-skew σ's (algorithm.md §3).
+  bool deskew = true;
+  // The registered pose is accepted only this close to the trajectory's (<= 0:
+  // any); otherwise the result is `rejected`, not `registered`, and the map
+  // is left as it was.
+  double max_translation_m = 0;
+  double max_rotation_rad = 0;
+};
+
 class ScanRegistration {
  public:
   using Clock = std::function<double()>;
@@ -135,6 +150,11 @@ class ScanRegistration {
   // `trajectory` should cover the scan (queries beyond its ends extrapolate).
   // result.v_w and timings.fuser_correction_s are left for the caller.
   ScanOutcome process(const Scan& scan, const Trajectory& trajectory, ScanResult& result);
+  ScanOutcome process(const Scan& scan, const Trajectory& trajectory, ScanResult& result,
+                      const ScanConditions& conditions);
+
+  // Gives up the local map: the next scan starts a new one at the trajectory's pose.
+  void reset_map();
 
   // The last processed scan's registered points (the down-sampled cloud, or
   // its registration_voxel_size_m subset) in the lidar frame at its first
@@ -147,6 +167,7 @@ class ScanRegistration {
 
   OdometryParams params_;
   Clock clock_;
+  ParallelRunner& runner_;
   VoxelDownsampler downsampler_;
   NormalEstimator normals_;
   ScanLineNormals line_normals_;

@@ -125,7 +125,7 @@ struct LcmConfig {
 };
 
 struct HealthConfig {
-  double sensor_timeout_s = 0.5;
+  double sensor_timeout_s = 0.2;
   double degraded_to_lost_s = 3.0;
   int good_scans_to_recover = 5;
   double min_inlier_ratio = 0.3;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "tumble/scan_t.hpp"
 
@@ -31,6 +32,30 @@ Eigen::Vector3d velocity_at(std::span<const TrajectoryRecord> trajectory, double
   const TrajectoryRecord& a = *(after - 1);
   const double f = (t_s - a.t_s) / (b.t_s - a.t_s);
   return (1 - f) * v(a) + f * v(b);
+}
+
+// Predicting from the registrations needs the newest to be this recent.
+constexpr double kMaxPredictionAge_s = 0.5;
+// A lidar gap (10 Hz scans) this long: the next scans are checked against the IMU.
+constexpr double kLidarGapToCheck_s = 0.25;
+constexpr int kScansCheckedAfterLidarGap = 5;
+// How far an IMU-propagated pose may be off after a lidar gap of g seconds:
+// kTranslationSlack_m + kVelocityError_m_s · g and kRotationSlack_rad + kRateError_rad_s · g.
+constexpr double kTranslationSlack_m = 0.1;
+constexpr double kVelocityError_m_s = 0.5;
+constexpr double kRotationSlack_rad = 0.05;
+constexpr double kRateError_rad_s = 0.05;
+// Scans in a row not registered or not trusted before the local map is given up.
+constexpr int kScansToReset = 3;
+
+// The longest stretch without a fused sample over [start_s, end_s].
+double imu_hole_s(std::span<const TrajectoryRecord> trajectory, double start_s, double end_s) {
+  if (trajectory.empty()) return std::numeric_limits<double>::infinity();
+  double hole = std::max({0.0, end_s - trajectory.back().t_s, trajectory.front().t_s - start_s});
+  for (std::size_t i = 1; i < trajectory.size(); ++i)
+    if (trajectory[i].t_s > start_s && trajectory[i - 1].t_s < end_s)
+      hole = std::max(hole, trajectory[i].t_s - trajectory[i - 1].t_s);
+  return hole;
 }
 
 }  // namespace
@@ -72,6 +97,8 @@ TrajectoryRecord CoreFuserStage::record_of(const TrajectorySample& sample) const
   r.position_var_m2 = {position_var, position_var, position_var};
   r.lidar_corrected = fuser_.stats().velocity_updates > 0;
   r.attitude_from_device = params_.fuser.attitude_from_device;
+  r.resets = resets_;
+  r.imu_bridged = fuser_.stats().reanchors > reanchors_corrected_;
   return r;
 }
 
@@ -87,6 +114,7 @@ bool CoreFuserStage::add_imu(const ImuSample& sample, TrajectoryRecord& out) {
 
 void CoreFuserStage::add_correction(const RegistrationRecord& registration,
                                     const std::function<void(const TrajectoryRecord&)>& republish) {
+  resets_ = registration.resets;
   if (!registration.registered || !fuser_.initialized()) return;
   const auto& q = registration.orientation_wxyz;
   Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
@@ -96,6 +124,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   const CorrectionResult result =
       fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m);
   if (std::isnan(result.rewritten_after_s)) return;
+  reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:
   // publish the rewritten tail again (it supersedes the older records).
   const Trajectory& trajectory = fuser_.trajectory();
@@ -119,7 +148,8 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
                  }),
       pool_(threads, std::move(on_helper_start)),
       registration_(params, steady_now_s, pool_),
-      trajectory_(params.fuser.trajectory_capacity, params.fuser.speed_uncertainty) {}
+      trajectory_(params.fuser.trajectory_capacity, params.fuser.speed_uncertainty),
+      prediction_(256, params.fuser.speed_uncertainty) {}
 
 std::vector<std::string> CoreRegistrationStage::stage_names() const {
   return {"deskew", "downsample", "normals", "weights", "icp_matching", "icp_solve", "map_update"};
@@ -150,12 +180,33 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   out.model = params_.weights.model;
   out.deskew = params_.deskew;
   out.points_in = static_cast<std::int32_t>(held_.points.size());
+  out.resets = resets_;
+  out.reset_reason = reset_reason_;
   if (trajectory.empty()) return;  // the fuser has not initialised: nothing to register with
 
+  const double t_end_s = held_.points.back().t_s;
   trajectory_.clear();
   for (const TrajectoryRecord& r : trajectory) trajectory_.push_back(to_sample(r));
-  const Eigen::Isometry3d predicted = trajectory_.pose_at(out.t_s);
-  switch (registration_.process(held_, trajectory_, result_)) {
+  ScanConditions conditions{.deskew = params_.deskew};
+  const Trajectory* motion = &trajectory_;
+  if (imu_hole_s(trajectory, out.t_s, t_end_s) > params_.fuser.max_imu_gap_s &&
+      predict_from_registrations(out.t_s, t_end_s)) {
+    motion = &prediction_;
+    conditions.deskew = false;
+    out.imu_bridged = true;
+    out.deskew = false;
+  }
+  const double lidar_gap_s = out.t_s - previous_scan_start_s_;
+  previous_scan_start_s_ = out.t_s;
+  if (lidar_gap_s > kLidarGapToCheck_s && newest_pose_) scans_to_check_ = kScansCheckedAfterLidarGap;
+  if (scans_to_check_ > 0 && !out.imu_bridged) {
+    const double since_registered_s = out.t_s - newest_pose_->t_s;
+    conditions.max_translation_m = kTranslationSlack_m + kVelocityError_m_s * since_registered_s;
+    conditions.max_rotation_rad = kRotationSlack_rad + kRateError_rad_s * since_registered_s;
+    --scans_to_check_;
+  }
+  const Eigen::Isometry3d predicted = motion->pose_at(out.t_s);
+  switch (registration_.process(held_, *motion, result_, conditions)) {
     case ScanOutcome::Registered:
       break;
     case ScanOutcome::TooSmall:
@@ -167,8 +218,57 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
       fill_record(result_, trajectory, out);
       return;
   }
+  keep_track(result_);
+  out.resets = resets_;
+  out.reset_reason = reset_reason_;
+  out.untrusted = result_.rejected;
   fill_record(result_, trajectory, out);
   if (viewer_scan != nullptr) fill_viewer_scan(result_, *viewer_scan);
+}
+
+bool CoreRegistrationStage::predict_from_registrations(double t_start_s, double t_end_s) {
+  if (!newest_pose_ || !previous_pose_ || t_start_s - newest_pose_->t_s > kMaxPredictionAge_s) return false;
+  const Pose& a = *newest_pose_;
+  const Pose& b = *previous_pose_;
+  const double dt_s = a.t_s - b.t_s;
+  if (!(dt_s > 0.0)) return false;
+  const Eigen::Vector3d v_w = (a.T_wl.translation() - b.T_wl.translation()) / dt_s;
+  const Eigen::AngleAxisd turn(b.T_wl.rotation().transpose() * a.T_wl.rotation());
+  const Eigen::Vector3d omega_l = turn.angle() * turn.axis() / dt_s;
+  const Eigen::Quaterniond q_a(a.T_wl.rotation());
+  constexpr int kSteps = 20;
+  prediction_.clear();
+  for (int i = 0; i <= kSteps; ++i) {
+    TrajectorySample s;
+    s.t_s = t_start_s + (t_end_s - t_start_s) * i / kSteps;
+    const Eigen::Vector3d rotation = omega_l * (s.t_s - a.t_s);
+    const Eigen::Quaterniond step = rotation.norm() > 0
+                                        ? Eigen::Quaterniond(Eigen::AngleAxisd(rotation.norm(), rotation.normalized()))
+                                        : Eigen::Quaterniond::Identity();
+    s.q_wl = (q_a * step).normalized();
+    s.p_w = a.T_wl.translation() + v_w * (s.t_s - a.t_s);
+    s.v_w = v_w;
+    s.omega_l = omega_l;
+    prediction_.push_back(s);
+  }
+  return true;
+}
+
+void CoreRegistrationStage::keep_track(const ScanResult& result) {
+  if (result.registered) {
+    scans_lost_in_a_row_ = 0;
+    previous_pose_ = newest_pose_;
+    newest_pose_ = Pose{result.t_scan_start_s, result.T_wl};
+    return;
+  }
+  if (++scans_lost_in_a_row_ < kScansToReset) return;
+  // The poses already published are kept; the next scan starts a new map at
+  // the fuser's pose, which carries on from them.
+  registration_.reset_map();
+  ++resets_;
+  reset_reason_ = result.rejected ? TrackingLoss::DisagreesWithImu : TrackingLoss::NotRegistered;
+  scans_lost_in_a_row_ = 0;
+  scans_to_check_ = 0;
 }
 
 void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory,

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -24,6 +25,9 @@ namespace tumble::daemon {
 TrajectoryRecord to_record(const TrajectorySample& sample);
 TrajectorySample to_sample(const TrajectoryRecord& record);
 
+// The fuser thread's stage. Records carry the registration's reset count and
+// whether the fuser re-anchored on registered poses after an IMU gap and has
+// not been corrected since (odometry_t FLAG_IMU_BRIDGED).
 class CoreFuserStage : public FuserStage {
  public:
   explicit CoreFuserStage(const OdometryParams& params);
@@ -38,7 +42,23 @@ class CoreFuserStage : public FuserStage {
   OdometryParams params_;
   ImuFuser fuser_;
   double newest_published_s_ = -1e300;
+  std::int32_t resets_ = 0;
+  std::uint64_t reanchors_corrected_ = 0;  // the fuser's re-anchor count at the newest correction
 };
+
+// The registration thread's stage. Beyond registering (issue 13):
+// - IMU gap: when the fused trajectory has a hole longer than the fuser's
+//   max_imu_gap_s over the scan (the fuser counts those as gaps too), the scan is registered against a
+//   prediction from the last two registered poses (constant velocity and body
+//   rate), not de-skewed, with the no-de-skew σ's (`imu_bridged`).
+// - Lidar gap: for kScansCheckedAfterLidarGap scans after a gap of more than
+//   kLidarGapToCheck_s, a registration farther from the IMU-propagated pose
+//   than that pose can be wrong is `untrusted`: not registered, not in the
+//   map, not sent to the fuser.
+// - Lost: kScansToReset scans in a row not registered or untrusted, and the
+//   stage gives up its local map (a reset, counted, with its reason); the next
+//   scan starts a new one at the fuser's pose, which continues the last one
+//   published.
 
 class CoreRegistrationStage : public RegistrationStage {
  public:
@@ -58,6 +78,13 @@ class CoreRegistrationStage : public RegistrationStage {
  private:
   void fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out);
   void fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const;
+  bool predict_from_registrations(double t_start_s, double t_end_s);
+  void keep_track(const ScanResult& result);
+
+  struct Pose {
+    double t_s = 0.0;
+    Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
+  };
 
   OdometryParams params_;
   rs16::ScanAssembler assembler_;
@@ -69,6 +96,14 @@ class CoreRegistrationStage : public RegistrationStage {
   bool holding_ = false;
   ScanResult result_;
   std::vector<float> sigma_scratch_;
+  Trajectory prediction_;             // for a scan the IMU did not cover
+  std::optional<Pose> newest_pose_;   // the two newest registered (trusted) poses
+  std::optional<Pose> previous_pose_;
+  double previous_scan_start_s_ = -1e300;
+  int scans_to_check_ = 0;            // after a lidar gap
+  int scans_lost_in_a_row_ = 0;
+  std::int32_t resets_ = 0;
+  TrackingLoss reset_reason_ = TrackingLoss::None;
 };
 
 }  // namespace tumble::daemon

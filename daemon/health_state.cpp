@@ -36,6 +36,8 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
   using S = HealthState;
   if ((current == S::Tracking || current == S::Degraded || current == S::Lost) && !in.fuser_initialised)
     return {fresh ? S::Initialising : S::WaitingForSensors, "odometry re-initialising"};
+  if (in.resets_in_period > 0 && (current == S::Initialising || current == S::Tracking || current == S::Degraded))
+    return {S::Lost, in.reset_reason.empty() ? std::string_view("tracking lost") : in.reset_reason};
   switch (current) {
     case S::WaitingForSensors:
       if (fresh) return {S::Initialising, "IMU and lidar data arriving"};
@@ -55,6 +57,10 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       break;
     case S::Lost:
+      if (!fresh) break;
+      if (in.new_map_since_lost) return {S::Initialising, "re-initialised: new local map"};
+      if (!in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
+        return {S::Tracking, "registration good again"};
       break;
   }
   return {current, {}};

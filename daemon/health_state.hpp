@@ -7,11 +7,17 @@
 //   DEGRADED --sensors fresh, nothing dropped, good_scans_to_recover
 //              consecutive good scans--> TRACKING
 //   DEGRADED --degraded for degraded_to_lost_s--> LOST
-//   TRACKING, DEGRADED, LOST --fuser no longer initialised (the odometry
-//              was reset)--> INITIALISING (or WAITING_FOR_SENSORS if a sensor is stale)
+//   INITIALISING, TRACKING, DEGRADED --the registration gave up its local map
+//              (a reset, with its reason)--> LOST
+//   LOST --sensors fresh and a new local map started since--> INITIALISING
+//   LOST --sensors fresh, nothing dropped, good_scans_to_recover
+//              consecutive good scans (the map was kept)--> TRACKING
+//   TRACKING, DEGRADED, LOST --fuser no longer initialised--> INITIALISING
+//              (or WAITING_FOR_SENSORS if a sensor is stale)
 //
-// LOST is otherwise sticky: a pose after losing track is not consistent with
-// the poses before it, so only a re-initialisation clears it.
+// LOST is never terminal: the registration thread re-initialises by itself
+// (a new local map continuing the last pose, core_stages.hpp), and a map that
+// was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
 // converged, inlier ratio >= min_inlier_ratio, degeneracy >= min_degeneracy.
 // "Data dropped": a ring dropped items or a scan was discarded in the period.
@@ -34,6 +40,9 @@ struct HealthInputs {
   int bad_scans_in_period = 0;
   int consecutive_good_scans = 0;  // ending with the newest scan
   bool data_dropped = false;
+  int resets_in_period = 0;          // local maps given up
+  std::string_view reset_reason;     // of the newest of them
+  bool new_map_since_lost = false;   // a scan started a new local map after the reset that lost track
 };
 
 struct HealthLimits {

@@ -25,7 +25,9 @@ void to_lcm(const TrajectoryRecord& s, std::int64_t seq, float latency_ms, tumbl
   if (s.gyro_saturated_axes != 0) flags |= tumble::odometry_t::FLAG_GYRO_SATURATED;
   if (s.accel_saturated_axes != 0) flags |= tumble::odometry_t::FLAG_ACCEL_SATURATED;
   if (s.attitude_from_device) flags |= tumble::odometry_t::FLAG_ATTITUDE_FROM_DEVICE;
+  if (s.imu_bridged) flags |= tumble::odometry_t::FLAG_IMU_BRIDGED;
   out.flags = flags;
+  out.resets = s.resets;
 }
 
 void to_lcm(const RegistrationRecord& r, const std::vector<std::string>& stage_names, float latency_ms,
@@ -49,6 +51,8 @@ void to_lcm(const RegistrationRecord& r, const std::vector<std::string>& stage_n
   out.sigma_s_median_m = r.sigma_s_median_m;
   out.sigma_s_max_m = r.sigma_s_max_m;
   out.latency_ms = latency_ms;
+  out.resets = r.resets;
+  out.imu_bridged = r.imu_bridged;
   const std::size_t stages = std::min<std::size_t>({r.num_stages, stage_names.size(), RegistrationRecord::kMaxStages});
   out.num_stages = static_cast<std::int16_t>(stages);
   out.stage_name.resize(stages);

@@ -22,18 +22,22 @@ std::size_t capacity(int configured) { return static_cast<std::size_t>(configure
 
 }  // namespace
 
-Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy)
+Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy, HealthClock clock)
     : policy_(policy),
       publish_scan_(config.lcm.publish_scan),
       realtime_priority_(config.daemon.realtime_priority),
       registration_nice_(config.daemon.registration_nice),
       trajectory_wait_ns_(std::llround(config.daemon.trajectory_wait_s * 1e9)),
+      trajectory_wait_s_(config.daemon.trajectory_wait_s),
+      sensor_time_(clock == HealthClock::Sensor),
       imu_(capacity(config.daemon.imu_ring_capacity)),
       lidar_(capacity(config.daemon.lidar_ring_capacity)),
       corrections_(capacity(config.daemon.correction_ring_capacity)),
       odometry_(capacity(config.daemon.odometry_ring_capacity)),
       registrations_(capacity(config.daemon.registration_ring_capacity)),
       scan_reports_(capacity(config.daemon.scan_report_ring_capacity)),
+      ticks_in_(capacity(config.daemon.lidar_ring_capacity)),
+      health_ticks_(capacity(config.daemon.scan_report_ring_capacity)),
       trajectory_(capacity(config.daemon.trajectory_buffer_capacity)),
       window_(capacity(config.daemon.trajectory_buffer_capacity)) {}
 
@@ -73,6 +77,7 @@ void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
 
   emit_imu_ = [this](const ImuSample& sample) {
     wait_for_room(imu_, &io_blocked_on_imu_);
+    newest_imu_s_ = imu_bytes_arrival_s_;
     imu_.push(ImuArrival{sample, imu_bytes_steady_ns_});
     fuser_wakeup_.notify();
   };
@@ -156,17 +161,36 @@ void Pipeline::push(SpscRing<T>& ring, const T& item) {
   ring.push(item);
 }
 
+void Pipeline::advance_sensor_time(double t_s) {
+  if (!sensor_time_) return;
+  if (next_tick_ < 0) next_tick_ = static_cast<std::int64_t>(std::floor(t_s / kHealthPeriod_s)) + 1;
+  bool pushed = false;
+  // Integer tick numbers: no drift from adding up the period.
+  for (double tick_s = static_cast<double>(next_tick_) * kHealthPeriod_s; t_s >= tick_s;
+       tick_s = static_cast<double>(++next_tick_) * kHealthPeriod_s) {
+    ticks_in_.push(SensorTimeTick{tick_s, newest_imu_s_, newest_lidar_s_, lidar_.pushed(), 0});
+    pushed = true;
+  }
+  if (pushed) registration_wakeup_.notify();
+}
+
 void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
+  advance_sensor_time(datagram.arrival_s);
   counters_.last_lidar_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
   if (parts_.recorder) parts_.recorder->record_lidar(datagram);
   wait_for_room(lidar_, &io_blocked_on_lidar_);
   const bool has_points =
       lidar_.push_if([&](PointBlock& block) { return parts_.lidar_decoder->decode(datagram, block); });
   parts_.lidar_decoder->report(counters_);
-  if (has_points) registration_wakeup_.notify();
+  if (has_points) {
+    newest_lidar_s_ = datagram.arrival_s;
+    registration_wakeup_.notify();
+  }
 }
 
 void Pipeline::on_imu_bytes(const ImuBytes& bytes) {
+  advance_sensor_time(bytes.arrival_s);
+  imu_bytes_arrival_s_ = bytes.arrival_s;
   imu_bytes_steady_ns_ = steady_now_ns();
   counters_.last_imu_steady_ns.store(imu_bytes_steady_ns_, std::memory_order_relaxed);
   if (parts_.recorder) parts_.recorder->record_imu(bytes);
@@ -188,7 +212,10 @@ bool Pipeline::fuser_may_add(double t_s, double previous_t_s) const {
   // stored before it (release/acquire), or has been registered since.
   const double newest_point = newest_point_s_.load(std::memory_order_acquire);
   const double held_end = held_scan_end_s_.load(std::memory_order_acquire);
-  if (held_end != std::numeric_limits<double>::infinity()) return previous_t_s < held_end;
+  // Past the held scan's end by more than trajectory_wait_s (an IMU gap): a
+  // live run registers the scan before this sample arrives; so does a replay.
+  if (held_end != std::numeric_limits<double>::infinity())
+    return previous_t_s < held_end && t_s <= held_end + trajectory_wait_s_;
   if (t_s < newest_point) return true;
   if (lidar_input_ended_.load(std::memory_order_acquire) && lidar_.empty()) return true;
   // The io thread waits for room in the IMU ring, so no lidar data can come
@@ -216,7 +243,16 @@ void Pipeline::run_fuser() {
       worked = true;
     }
     if (!have_sample) have_sample = imu_.pop(arrival);
-    if (have_sample && fuser_may_add(sample.t_s, previous_t_s)) {
+    const bool may_add = have_sample && fuser_may_add(sample.t_s, previous_t_s);
+    if (have_sample && !may_add && policy_ == OverflowPolicy::Wait) {
+      const double held_end = held_scan_end_s_.load(std::memory_order_acquire);
+      if (previous_t_s < held_end && sample.t_s > held_end + trajectory_wait_s_ &&
+          fuser_past_scan_end_s_.load(std::memory_order_acquire) != held_end) {
+        fuser_past_scan_end_s_.store(held_end, std::memory_order_release);
+        registration_wakeup_.notify();
+      }
+    }
+    if (may_add) {
       have_sample = false;
       worked = true;
       previous_t_s = sample.t_s;
@@ -268,10 +304,11 @@ std::optional<double> Pipeline::newest_trajectory_time() const {
   return newest.t_s;
 }
 
-bool Pipeline::trajectory_may_still_come(std::int64_t scan_complete_steady_ns) const {
+bool Pipeline::trajectory_may_still_come(std::int64_t scan_complete_steady_ns, double scan_end_s) const {
   if (!parts_.fuser || fuser_finished_.load(std::memory_order_acquire)) return false;
   if (registration_stop_.load(std::memory_order_acquire) == 2) return false;
   if (policy_ == OverflowPolicy::Wait) {
+    if (fuser_past_scan_end_s_.load(std::memory_order_acquire) == scan_end_s) return false;
     // Replay: more IMU data can reach the fuser unless the IMU input ended or
     // the io thread is blocked on the full lidar ring (which only this thread
     // empties, so that state holds while we wait) - and the fuser has
@@ -294,13 +331,20 @@ void Pipeline::run_registration() {
     const int stop = registration_stop_.load(std::memory_order_acquire);
     if (stop == 2) break;
     if (!holding) {
+      forward_health_ticks();
       double block_end_s = 0.0;
       const bool got = lidar_.pop_with([&](const PointBlock& block) {
         holding = stage.add_points(block);
         const auto points = block.all_points();
         block_end_s = points.empty() ? block.t_s : points.back().t_s;
       });
+      if (got) ++lidar_popped_;
       if (!got) {
+        if (sensor_time_ && input_ended_.load(std::memory_order_acquire) && lidar_.empty() && ticks_in_.empty() &&
+            !pending_tick_ && !health_ticks_complete_.load(std::memory_order_relaxed)) {
+          health_ticks_complete_.store(true, std::memory_order_release);
+          if (wake_main_) wake_main_();
+        }
         if (lidar_input_ended_.load(std::memory_order_acquire) && lidar_.empty() &&
             newest_point_s_.load(std::memory_order_relaxed) != std::numeric_limits<double>::infinity()) {
           newest_point_s_.store(std::numeric_limits<double>::infinity(), std::memory_order_release);
@@ -308,9 +352,12 @@ void Pipeline::run_registration() {
         }
         if (stop == 1) break;  // drained
         const bool lidar_ended = lidar_input_ended_.load(std::memory_order_acquire);
+        const bool all_ended = input_ended_.load(std::memory_order_acquire);
+        const std::uint64_t ticks = ticks_in_.pushed();
         registration_wakeup_.wait(kIdleWait, [&] {
           return !lidar_.empty() || registration_stop_.load(std::memory_order_acquire) != 0 ||
-                 lidar_input_ended_.load(std::memory_order_acquire) != lidar_ended;
+                 lidar_input_ended_.load(std::memory_order_acquire) != lidar_ended ||
+                 input_ended_.load(std::memory_order_acquire) != all_ended || ticks_in_.pushed() != ticks;
         });
         continue;
       }
@@ -340,16 +387,19 @@ void Pipeline::run_registration() {
                                    fuser_time_s_.load(std::memory_order_acquire) >= scan_end_s;
     const bool trajectory_short = !fuser_passed_scan && (!newest || *newest < scan_end_s);
     const bool wait = policy_ == OverflowPolicy::Wait
-                          ? (corrections_pending || trajectory_short) && trajectory_may_still_come(complete_ns)
-                          : corrections_pending || (trajectory_short && trajectory_may_still_come(complete_ns));
+                          ? (corrections_pending || trajectory_short) && trajectory_may_still_come(complete_ns, scan_end_s)
+                          : corrections_pending ||
+                                (trajectory_short && trajectory_may_still_come(complete_ns, scan_end_s));
     if (wait) {
       const std::uint64_t published = trajectory_.published();
       const std::int64_t consumed = counters_.imu_samples.load(std::memory_order_acquire);
       const bool io_blocked = io_blocked_on_lidar_.load(std::memory_order_acquire);
       const bool imu_ended = imu_input_ended_.load(std::memory_order_acquire);
       const std::uint64_t applied = corrections_applied_.load(std::memory_order_acquire);
+      const double fuser_past = fuser_past_scan_end_s_.load(std::memory_order_acquire);
       registration_wakeup_.wait(kIdleWait, [&] {  // until something that decides the wait changes
         return trajectory_.published() != published ||
+               fuser_past_scan_end_s_.load(std::memory_order_acquire) != fuser_past ||
                corrections_applied_.load(std::memory_order_acquire) != applied ||
                counters_.imu_samples.load(std::memory_order_acquire) != consumed ||
                io_blocked_on_lidar_.load(std::memory_order_acquire) != io_blocked ||
@@ -394,9 +444,43 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   correction_pushed_steady_ns_ = steady_now_ns();
   fuser_wakeup_.notify();
   push(registrations_, registration_out_);
-  scan_reports_.push(registration_out_);  // statistics: dropping the oldest is fine even in replay
+  counters_.resets.store(registration_out_.resets, std::memory_order_relaxed);
+  if (registration_out_.imu_bridged) counters_.scans_imu_bridged.fetch_add(1, std::memory_order_relaxed);
+  if (registration_out_.untrusted) counters_.scans_untrusted.fetch_add(1, std::memory_order_relaxed);
+  // Statistics: live, dropping the oldest is fine; on sensor time they decide the health machine.
+  if (sensor_time_) {
+    push_health(scan_reports_, registration_out_);
+  } else {
+    scan_reports_.push(registration_out_);
+  }
   if (viewer != nullptr) scans_.publish();
   output_wakeup_.notify();
+}
+
+void Pipeline::forward_health_ticks() {
+  if (!sensor_time_) return;
+  for (;;) {
+    if (!pending_tick_) {
+      SensorTimeTick tick;
+      if (!ticks_in_.pop(tick)) return;
+      pending_tick_ = tick;
+    }
+    // Not before this thread took every lidar item pushed before the tick
+    // (and, being called only between scans, registered what they completed).
+    if (pending_tick_->lidar_items > lidar_popped_ + lidar_.dropped()) return;
+    pending_tick_->scan_reports = scan_reports_.pushed();
+    push_health(health_ticks_, *pending_tick_);
+    pending_tick_.reset();
+    if (wake_main_) wake_main_();
+  }
+}
+
+template <class T>
+void Pipeline::push_health(SpscRing<T>& ring, const T& item) {
+  while (ring.full() && !health_unwatched_.load(std::memory_order_acquire) &&
+         !abandon_.load(std::memory_order_acquire))
+    std::this_thread::sleep_for(kRoomPoll);
+  ring.push(item);
 }
 
 // ---- lifecycle --------------------------------------------------------------------

@@ -60,6 +60,11 @@ struct PipelineParts {
   std::unique_ptr<RegistrationStage> registration;
 };
 
+enum class HealthClock {
+  Steady,  // live: the health machine runs on the main thread's timer
+  Sensor,  // replay: on the data's own time (SensorTimeTick every kHealthPeriod_s)
+};
+
 enum class OverflowPolicy {
   DropOldest,  // live: never block a producer
   Wait,        // replay at max rate: lose nothing
@@ -67,7 +72,9 @@ enum class OverflowPolicy {
 
 class Pipeline {
  public:
-  Pipeline(const DaemonConfig& config, OverflowPolicy policy);
+  static constexpr double kHealthPeriod_s = 0.1;  // of sensor time, between health evaluations
+
+  Pipeline(const DaemonConfig& config, OverflowPolicy policy, HealthClock clock = HealthClock::Steady);
   ~Pipeline();  // stop(Drain::No)
   Pipeline(const Pipeline&) = delete;
   Pipeline& operator=(const Pipeline&) = delete;
@@ -97,6 +104,12 @@ class Pipeline {
   Wakeup& output_wakeup() { return output_wakeup_; }
   Mailbox<tumble::status_t>& status_mailbox() { return status_; }
   SpscRing<RegistrationRecord>& scan_reports() { return scan_reports_; }
+  // HealthClock::Sensor: the ticks for StatusAggregator::evaluate, in order.
+  SpscRing<SensorTimeTick>& health_ticks() { return health_ticks_; }
+  // HealthClock::Sensor: the input ended and every tick and scan report is pushed.
+  bool health_ticks_complete() const { return health_ticks_complete_.load(std::memory_order_acquire); }
+  // The main thread no longer drains the health ticks and scan reports: stop waiting for room in them.
+  void stop_reporting_health() { health_unwatched_.store(true, std::memory_order_release); }
   std::vector<NamedRing> rings() const;
   const PipelineCounters& counters() const { return counters_; }
 
@@ -113,11 +126,15 @@ class Pipeline {
   void on_lidar_datagram(const LidarDatagram& datagram);
   void on_imu_bytes(const ImuBytes& bytes);
   void on_source_end();
+  void advance_sensor_time(double t_s);
+  void forward_health_ticks();  // registration thread, between scans
+  template <class T>
+  void push_health(SpscRing<T>& ring, const T& item);
   void run_fuser();
   bool fuser_may_add(double t_s, double previous_t_s) const;
   void run_registration();
   std::optional<double> newest_trajectory_time() const;
-  bool trajectory_may_still_come(std::int64_t scan_complete_steady_ns) const;
+  bool trajectory_may_still_come(std::int64_t scan_complete_steady_ns, double scan_end_s) const;
   void register_scan(std::int64_t scan_complete_steady_ns);
   enum class Priority {
     ImuPath,     // daemon.realtime_priority
@@ -131,6 +148,8 @@ class Pipeline {
   const int realtime_priority_;
   const int registration_nice_;
   const std::int64_t trajectory_wait_ns_;
+  const double trajectory_wait_s_;
+  const bool sensor_time_;
 
   // Before parts_: sources built on the io_context must be destroyed before it.
   boost::asio::io_context io_;
@@ -143,6 +162,8 @@ class Pipeline {
   SpscRing<TrajectoryRecord> odometry_;
   SpscRing<RegistrationRecord> registrations_;
   SpscRing<RegistrationRecord> scan_reports_;
+  SpscRing<SensorTimeTick> ticks_in_;      // io -> registration
+  SpscRing<SensorTimeTick> health_ticks_;  // registration -> main
   TrajectoryBuffer trajectory_;
   Mailbox<tumble::status_t> status_;
   Mailbox<tumble::scan_t> scans_;
@@ -155,6 +176,10 @@ class Pipeline {
   std::optional<boost::asio::executor_work_guard<boost::asio::io_context::executor_type>> io_work_;
   std::function<void(const ImuSample&)> emit_imu_;
   std::int64_t imu_bytes_steady_ns_ = 0;  // io thread: when the bytes being decoded arrived
+  double imu_bytes_arrival_s_ = 0.0;      // io thread: their host (replay: record) time
+  std::int64_t next_tick_ = -1;           // io thread, HealthClock::Sensor: index of the next tick (-1: no record yet)
+  double newest_imu_s_ = -1.0;
+  double newest_lidar_s_ = -1.0;
   std::optional<boost::asio::steady_timer> io_heartbeat_timer_;
   int sources_running_ = 0;
   std::atomic<bool> imu_input_ended_{false};
@@ -172,6 +197,14 @@ class Pipeline {
   RegistrationRecord registration_out_;
   std::uint64_t corrections_pushed_ = 0;
   std::int64_t correction_pushed_steady_ns_ = 0;  // registration thread: when the newest was pushed
+  std::uint64_t lidar_popped_ = 0;
+  std::optional<SensorTimeTick> pending_tick_;
+  std::atomic<bool> health_ticks_complete_{false};
+  std::atomic<bool> health_unwatched_{false};
+  // OverflowPolicy::Wait: the end of the held scan the fuser holds a sample
+  // for that came more than trajectory_wait_s after it (an IMU gap): that
+  // scan gets no more trajectory, as it would not live.
+  std::atomic<double> fuser_past_scan_end_s_{-std::numeric_limits<double>::infinity()};
   // The fuser's step gate (OverflowPolicy::Wait): the end of the complete scan
   // not yet registered (+inf: none), and the newest lidar point seen (+inf: no
   // more lidar data).

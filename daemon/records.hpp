@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <string_view>
 
 #include "core/point_weights.hpp"
 #include "core/types.hpp"
@@ -38,9 +39,29 @@ struct TrajectoryRecord {
   bool lidar_corrected = false;       // the velocity already includes a registered scan
   bool attitude_from_device = false;  // orientation is the IMU's own estimate, not Madgwick's
   std::int64_t imu_arrival_steady_ns = 0;  // ImuArrival::arrival_steady_ns of the sample; 0: unknown
+  std::int32_t resets = 0;                 // odometry re-initialisations the fuser has seen
+  bool imu_bridged = false;                // re-anchored on registered poses after an IMU gap, not yet corrected
 };
 
 using tumble::WeightModel;
+
+// Why the registration thread gave up its local map and started a new one.
+enum class TrackingLoss : std::uint8_t {
+  None = 0,
+  NotRegistered,      // consecutive scans without enough matches
+  DisagreesWithImu,   // consecutive registrations far from the IMU-propagated pose
+};
+constexpr std::string_view to_string(TrackingLoss loss) {
+  switch (loss) {
+    case TrackingLoss::None:
+      return "none";
+    case TrackingLoss::NotRegistered:
+      return "scans not registered (too few matches)";
+    case TrackingLoss::DisagreesWithImu:
+      return "registrations disagree with the IMU-propagated pose";
+  }
+  return "unknown";
+}
 
 // One registered scan, as the registration thread reports it (to the fuser as
 // a correction, to LCM as tumble.registration_t, to the trajectory file).
@@ -69,6 +90,22 @@ struct RegistrationRecord {
   std::int64_t scan_complete_steady_ns = 0;  // when the scan's last packet was taken (for latency)
   std::uint8_t num_stages = 0;               // names: RegistrationStage::stage_names()
   std::array<float, kMaxStages> stage_ms{};
+  std::int32_t resets = 0;              // local maps given up so far (this scan started a new one when it grew)
+  TrackingLoss reset_reason = TrackingLoss::None;  // of the newest reset
+  bool imu_bridged = false;             // no IMU over the scan: predicted from the registrations, not de-skewed
+  bool untrusted = false;               // registered, but too far from the IMU-propagated pose: not used
+};
+
+// The sensors' own time, as the io thread sees the replayed records: at each
+// health period boundary t_s, the newest IMU and lidar data before it. The
+// registration thread passes it on once every scan that ended before it is
+// reported, so the health machine sees the same inputs on every replay.
+struct SensorTimeTick {
+  double t_s = 0.0;
+  double newest_imu_s = -1.0;    // < 0: none yet
+  double newest_lidar_s = -1.0;
+  std::uint64_t lidar_items = 0;   // lidar ring pushes before this tick
+  std::uint64_t scan_reports = 0;  // scan reports pushed before this tick (set by the registration thread)
 };
 
 }  // namespace tumble::daemon

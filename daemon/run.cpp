@@ -56,7 +56,10 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   MainLoop loop(signals, tick);  // before the pipeline: its threads wake the loop until they are joined
 
   const bool lossless = options.replay && options.rate.max;
-  Pipeline pipeline(config, lossless ? OverflowPolicy::Wait : OverflowPolicy::DropOldest);
+  // A replay's health follows the data's own time (status_aggregator.hpp).
+  const bool sensor_time = options.replay.has_value();
+  Pipeline pipeline(config, lossless ? OverflowPolicy::Wait : OverflowPolicy::DropOldest,
+                    sensor_time ? HealthClock::Sensor : HealthClock::Steady);
   PipelineParts parts = make_parts(pipeline.io_context(), config, options);
   if (options.replay && (!parts.lidar_source || !parts.imu_source)) {
     spdlog::error("--replay: this build has no lidar and IMU replay sources");
@@ -90,6 +93,24 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
     pipeline.status_mailbox().publish();
     pipeline.output_wakeup().notify();
   };
+  // Sensor time: each tick evaluates the health machine; the status goes out
+  // at each status period of data time, stamped with it.
+  double next_sensor_status_s = -1.0;
+  SensorTimeTick newest_tick;
+  const auto follow_sensor_time = [&] {
+    SensorTimeTick tick;
+    while (pipeline.health_ticks().pop(tick)) {
+      status.evaluate(tick);
+      newest_tick = tick;
+      if (next_sensor_status_s < 0.0) next_sensor_status_s = tick.t_s + config.daemon.status_period_s;
+      if (tick.t_s + 1e-9 < next_sensor_status_s) continue;
+      status.publish(std::llround(tick.t_s * 1e9), std::llround(tick.t_s * 1e6), pipeline.status_mailbox().draft());
+      pipeline.status_mailbox().publish();
+      pipeline.output_wakeup().notify();
+      systemd.status(status.summary());
+      next_sensor_status_s += config.daemon.status_period_s;
+    }
+  };
 
   publisher.start(config.daemon.realtime_priority);
   pipeline.start(std::move(parts), [&loop] { loop.wake(); });
@@ -120,7 +141,9 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
       exit_code = 1;
       break;
     }
-    if (pipeline.input_ended()) {
+    if (sensor_time) follow_sensor_time();
+    if (pipeline.input_ended() && (!sensor_time || pipeline.health_ticks_complete())) {
+      if (sensor_time) follow_sensor_time();  // the ticks pushed before it said complete
       if (!options.replay) {  // live sensors do not end: let systemd restart us
         spdlog::critical("live sensor input ended");
         exit_code = 1;
@@ -137,7 +160,7 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
     }
     if (event != MainLoop::Event::Tick) continue;
     const std::int64_t now = steady_now_ns();
-    if (now >= next_status_ns) {
+    if (!sensor_time && now >= next_status_ns) {
       publish_status();
       systemd.status(status.summary());
       while (next_status_ns <= now) next_status_ns += status_period.count();
@@ -158,8 +181,16 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
 
   systemd.stopping();
   if (drain) status.input_ended();
+  pipeline.stop_reporting_health();
   pipeline.stop(drain ? Pipeline::Drain::Yes : Pipeline::Drain::No);
-  publish_status();  // the final counts
+  if (sensor_time && newest_tick.t_s > 0.0) {  // the final counts, at the newest data time
+    status.publish(std::llround(newest_tick.t_s * 1e9), std::llround(newest_tick.t_s * 1e6),
+                   pipeline.status_mailbox().draft());
+    pipeline.status_mailbox().publish();
+    pipeline.output_wakeup().notify();
+  } else {
+    publish_status();  // the final counts
+  }
   publisher.stop();
   log_latency_summary(publisher, lossless);
   if (trajectory) {

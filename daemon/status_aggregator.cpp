@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 namespace tumble::daemon {
@@ -43,13 +44,20 @@ bool StatusAggregator::is_good(const RegistrationRecord& r) const {
   return r.converged && r.inlier_ratio >= health_.min_inlier_ratio && r.degeneracy >= health_.min_degeneracy;
 }
 
-void StatusAggregator::drain_scan_reports() {
-  while (scan_reports_.pop_with([this](const RegistrationRecord& r) {
+void StatusAggregator::drain_scan_reports(std::uint64_t until) {
+  while (reports_consumed_ < until && scan_reports_.pop_with([this](const RegistrationRecord& r) {
     const std::size_t stages = std::min<std::size_t>(r.num_stages, stage_ms_.size());
     for (std::size_t i = 0; i < stages; ++i) stage_ms_[i].add(r.stage_ms[i]);
     iterations_.add(static_cast<float>(r.iterations));
     inlier_ratio_.add(r.inlier_ratio);
     degeneracy_.add(r.degeneracy);
+    any_scan_reported_ = true;
+    if (r.resets > resets_seen_) {
+      resets_in_period_ += r.resets - resets_seen_;
+      resets_seen_ = r.resets;
+      newest_reset_reason_ = r.reset_reason;
+    }
+    if (r.map_initialised) new_map_at_resets_ = r.resets;
     if (is_good(r)) {
       ++consecutive_good_scans_;
     } else {
@@ -57,37 +65,87 @@ void StatusAggregator::drain_scan_reports() {
       ++bad_scans_in_period_;
     }
   })) {
+    ++reports_consumed_;
   }
 }
 
-void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
-  drain_scan_reports();
-  const double period_s = seconds(now_steady_ns - previous_steady_ns_);
-  const PipelineCounters& c = counters_;
+std::uint64_t StatusAggregator::sensor_drops() const {
   const auto load = [](const std::atomic<std::int64_t>& a) { return a.load(std::memory_order_relaxed); };
-
-  // Health.
-  std::uint64_t drops = static_cast<std::uint64_t>(load(c.scans_dropped));
+  std::uint64_t drops = static_cast<std::uint64_t>(load(counters_.scans_dropped));
   for (const NamedRing& r : rings_)
     if (r.carries_sensor_data) drops += r.ring->dropped();
+  return drops;
+}
+
+void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool lidar_fresh, bool fuser_initialised) {
+  const std::uint64_t drops = sensor_drops();
   HealthInputs in;
-  in.imu_fresh = fresh(load(c.last_imu_steady_ns), now_steady_ns, health_.sensor_timeout_s);
-  in.lidar_fresh = fresh(load(c.last_lidar_steady_ns), now_steady_ns, health_.sensor_timeout_s);
-  in.fuser_initialised = c.fuser_initialised.load(std::memory_order_relaxed);
+  in.imu_fresh = imu_fresh;
+  in.lidar_fresh = lidar_fresh;
+  in.fuser_initialised = fuser_initialised;
   in.bad_scans_in_period = bad_scans_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
-  in.data_dropped = drops != previous_drops_;
+  in.data_dropped = drops != previous_drops_for_health_;
+  in.resets_in_period = resets_in_period_;
+  in.reset_reason = to_string(newest_reset_reason_);
+  in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover};
   const HealthTransition next =
       input_ended_ ? HealthTransition{state_, {}}
-                   : next_health_state(state_, seconds(now_steady_ns - state_since_steady_ns_), in, limits);
+                   : next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
   if (next.state != state_) {
     const bool worse = next.state == HealthState::Degraded || next.state == HealthState::Lost;
-    logger_->log(worse ? spdlog::level::warn : spdlog::level::info, "state {} -> {}: {}", to_string(state_),
-                 to_string(next.state), next.reason);
+    if (on_sensor_time_) {
+      logger_->log(worse ? spdlog::level::warn : spdlog::level::info, "state {} -> {}: {} (data time {:.1f} s)",
+                   to_string(state_), to_string(next.state), next.reason, seconds(now_ns - start_steady_ns_));
+    } else {
+      logger_->log(worse ? spdlog::level::warn : spdlog::level::info, "state {} -> {}: {}", to_string(state_),
+                   to_string(next.state), next.reason);
+    }
+    if (next.state == HealthState::Lost) lost_at_resets_ = resets_in_period_ > 0 ? resets_seen_ : -1;
     state_ = next.state;
-    state_since_steady_ns_ = now_steady_ns;
+    state_since_steady_ns_ = now_ns;
+    state_reason_ = next.reason;
   }
+  previous_drops_for_health_ = drops;
+  bad_scans_in_period_ = 0;
+  resets_in_period_ = 0;
+}
+
+void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
+  const PipelineCounters& c = counters_;
+  evaluate_health(now_steady_ns, fresh(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns, health_.sensor_timeout_s),
+                  fresh(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns, health_.sensor_timeout_s),
+                  c.fuser_initialised.load(std::memory_order_relaxed));
+  fill_message(now_steady_ns, utime, out);
+}
+
+void StatusAggregator::evaluate(const SensorTimeTick& tick) {
+  const auto ns = [](double t_s) { return std::llround(t_s * 1e9); };
+  const std::int64_t now_ns = ns(tick.t_s);
+  if (!on_sensor_time_) {
+    on_sensor_time_ = true;
+    start_steady_ns_ = previous_steady_ns_ = state_since_steady_ns_ = now_ns;
+  }
+  drain_scan_reports(tick.scan_reports);
+  const auto sensor_fresh = [&](double newest_s) {
+    return newest_s >= 0.0 && tick.t_s - newest_s <= health_.sensor_timeout_s;
+  };
+  // A reported scan was registered with the fuser's trajectory: the fuser is
+  // initialised (its own flag changes at a moment no replay can reproduce).
+  evaluate_health(now_ns, sensor_fresh(tick.newest_imu_s), sensor_fresh(tick.newest_lidar_s), any_scan_reported_);
+}
+
+void StatusAggregator::publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out) {
+  fill_message(now_ns, utime, out);
+}
+
+void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
+  const double period_s = seconds(now_steady_ns - previous_steady_ns_);
+  const PipelineCounters& c = counters_;
+  const auto load = [](const std::atomic<std::int64_t>& a) { return a.load(std::memory_order_relaxed); };
+  const std::uint64_t drops = sensor_drops();
 
   // The message.
   out.utime = utime;
@@ -110,6 +168,10 @@ void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumb
   out.scans_registered = scans;
   out.scans_dropped = load(c.scans_dropped);
   out.scans_short_trajectory = load(c.scans_short_trajectory);
+  out.resets = static_cast<std::int32_t>(load(c.resets));
+  out.state_reason = state_reason_;
+  out.scans_imu_bridged = load(c.scans_imu_bridged);
+  out.scans_untrusted = load(c.scans_untrusted);
 
   out.num_rings = static_cast<std::int16_t>(rings_.size());
   out.ring_name.resize(rings_.size());
@@ -157,8 +219,6 @@ void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumb
   previous_lidar_packets_ = lidar_packets;
   previous_imu_samples_ = imu_samples;
   previous_scans_ = scans;
-  previous_drops_ = drops;
-  bad_scans_in_period_ = 0;
 }
 
 }  // namespace tumble::daemon

@@ -2,6 +2,14 @@
 // rates, drops, ring fill, per-stage time per scan (median and max over the
 // period), ICP statistics, saturation counts, clock estimates and the health
 // state machine (health_state.hpp), with one log line per state change.
+//
+// Two clocks. Live, tick() runs on the steady clock: sensors are fresh when
+// their bytes arrived recently. A replay runs on the sensors' own time
+// (SensorTimeTick, from the io thread through the registration thread):
+// evaluate() at each health period of data time with exactly the scan reports
+// pushed before it, and publish() at each status period, so a replay at any
+// rate reports the states and warnings a live run would have, the same on
+// every run.
 #pragma once
 
 #include <spdlog/logger.h>
@@ -38,6 +46,10 @@ class StatusAggregator {
   // now_steady_ns: monotonic clock; utime: host clock in microseconds (the message stamp).
   void tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out);
 
+  // Sensor time (replay): the health machine at tick.t_s, then the message.
+  void evaluate(const SensorTimeTick& tick);
+  void publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out);
+
   // The input ended (a replay's files): the sensors falling silent is then
   // no fault, so later ticks keep the state (and log no change).
   void input_ended() { input_ended_ = true; }
@@ -50,7 +62,10 @@ class StatusAggregator {
   static constexpr std::size_t kWindow = 64;  // scans per period kept for medians (10 Hz lidar: 10)
 
   bool is_good(const RegistrationRecord& r) const;
-  void drain_scan_reports();
+  void drain_scan_reports(std::uint64_t until);
+  std::uint64_t sensor_drops() const;  // lost sensor data: dropped scans and sensor-ring drops  // report count to reach (scan_reports_ pushes)
+  void evaluate_health(std::int64_t now_ns, bool imu_fresh, bool lidar_fresh, bool fuser_initialised);
+  void fill_message(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out);
 
   HealthConfig health_;
   std::vector<std::string> stage_names_;
@@ -59,12 +74,14 @@ class StatusAggregator {
   SpscRing<RegistrationRecord>& scan_reports_;
   std::shared_ptr<spdlog::logger> logger_;
 
+  // On the health clock: steady (live) or the sensors' (replay, set by the first evaluate()).
   std::int64_t start_steady_ns_;
   std::int64_t previous_steady_ns_;
+  bool on_sensor_time_ = false;
+  std::uint64_t reports_consumed_ = 0;
   std::int64_t previous_lidar_packets_ = 0;
   std::int64_t previous_imu_samples_ = 0;
   std::int64_t previous_scans_ = 0;
-  std::uint64_t previous_drops_ = 0;
 
   std::vector<PeriodStats<kWindow>> stage_ms_;  // sized once, at construction
   PeriodStats<kWindow> iterations_;
@@ -72,10 +89,18 @@ class StatusAggregator {
   PeriodStats<kWindow> degeneracy_;
   int bad_scans_in_period_ = 0;
   int consecutive_good_scans_ = 0;
+  bool any_scan_reported_ = false;
+  int resets_in_period_ = 0;
+  std::int32_t resets_seen_ = 0;
+  TrackingLoss newest_reset_reason_ = TrackingLoss::None;
+  std::int32_t new_map_at_resets_ = 0;  // resets count of the newest scan that started a map
+  std::int32_t lost_at_resets_ = -1;    // resets count when the state became lost (-1: not lost)
+  std::uint64_t previous_drops_for_health_ = 0;
 
   bool input_ended_ = false;
   HealthState state_ = HealthState::WaitingForSensors;
   std::int64_t state_since_steady_ns_;
+  std::string state_reason_;
   std::string summary_;
 };
 

@@ -40,6 +40,9 @@ struct PipelineCounters {
   std::atomic<std::int64_t> scans_registered{0};
   std::atomic<std::int64_t> scans_dropped{0};           // discarded: too far behind
   std::atomic<std::int64_t> scans_short_trajectory{0};  // registered before the trajectory covered them
+  std::atomic<std::int64_t> scans_imu_bridged{0};       // registered without IMU coverage
+  std::atomic<std::int64_t> scans_untrusted{0};         // too far from the IMU prediction: not used
+  std::atomic<std::int64_t> resets{0};                  // local maps given up
 };
 
 }  // namespace tumble::daemon

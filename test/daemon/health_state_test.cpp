@@ -79,12 +79,38 @@ TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   EXPECT_EQ(next(S::Degraded, in), S::Degraded);
 }
 
-TEST(HealthState, DegradedTooLongIsLostAndLostIsSticky) {
+TEST(HealthState, DegradedTooLongIsLostUntilTheScansAreGoodAgain) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 0;
   EXPECT_EQ(next(S::Degraded, in, 2.9), S::Degraded);
   EXPECT_EQ(next(S::Degraded, in, 3.0), S::Lost);
-  EXPECT_EQ(next(S::Lost, healthy(), 100.0), S::Lost);  // good data does not clear it
+  EXPECT_EQ(next(S::Lost, in, 100.0), S::Lost);
+  in.consecutive_good_scans = 4;
+  EXPECT_EQ(next(S::Lost, in), S::Lost);
+  in.consecutive_good_scans = 5;  // the map was kept: tracked against again
+  EXPECT_EQ(next(S::Lost, in), S::Tracking);
+  in.imu_fresh = false;
+  EXPECT_EQ(next(S::Lost, in), S::Lost);
+}
+
+TEST(HealthState, AResetIsLostWithItsReasonThenANewMapInitialises) {
+  for (const S from : {S::Initialising, S::Tracking, S::Degraded}) {
+    HealthInputs in = healthy();
+    in.resets_in_period = 1;
+    in.reset_reason = "registrations disagree with the IMU-propagated pose";
+    const HealthTransition t = next_health_state(from, 0.0, in, {});
+    EXPECT_EQ(t.state, S::Lost) << to_string(from);
+    EXPECT_EQ(t.reason, in.reset_reason);
+  }
+  HealthInputs in = healthy();
+  in.consecutive_good_scans = 0;
+  EXPECT_EQ(next(S::Lost, in), S::Lost);
+  in.new_map_since_lost = true;
+  EXPECT_EQ(next(S::Lost, in), S::Initialising);
+  in.consecutive_good_scans = 1;
+  EXPECT_EQ(next(S::Initialising, in), S::Tracking);
+  in.resets_in_period = 1;  // waiting for sensors is not tracking: nothing to lose
+  EXPECT_EQ(next(S::WaitingForSensors, in), S::Initialising);
 }
 
 TEST(HealthState, ReinitialisingTheOdometryLeavesLost) {

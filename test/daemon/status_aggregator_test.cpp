@@ -191,5 +191,77 @@ TEST_F(StatusAggregatorTest, OutputRingDropsDoNotDegradeHealth) {
   EXPECT_EQ(status_.ring_drops[1], 10);
 }
 
+
+TEST_F(StatusAggregatorTest, OnSensorTimeTheTicksDecideNotTheClocks) {
+  // Arrival stamps on the steady clock say nothing here: the ticks carry the data's own time.
+  SensorTimeTick tick{100.0, 99.95, 99.95, 0, 0};
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
+  report_scan(true, 1.0f);
+  report_scan(false, 1.0f);
+  tick = {100.1, 100.05, 100.05, 0, 1};  // only the first report came before this tick
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  tick = {100.2, 100.15, 100.15, 0, 1};
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  tick = {100.3, 100.25, 100.25, 0, 2};  // the bad scan
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  for (int i = 0; i < 5; ++i) report_scan(true, 1.0f);
+  tick = {100.4, 100.35, 100.35, 0, 7};
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  tick = {101.0, 100.45, 100.95, 0, 7};  // the IMU silent for 0.55 s of data time
+  aggregator_.evaluate(tick);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  aggregator_.publish(101'000'000'000, 101'000'000, status_);
+  EXPECT_EQ(status_.state_reason, "no IMU data");
+  EXPECT_FLOAT_EQ(status_.uptime_s, 1.0f);
+  EXPECT_NE(log_.str().find("warning state tracking -> degraded: no IMU data"), std::string::npos) << log_.str();
+}
+
+TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
+  const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
+    RegistrationRecord r;
+    r.converged = good;
+    r.registered = true;
+    r.inlier_ratio = 0.6f;
+    r.degeneracy = 0.5f;
+    r.resets = resets;
+    r.reset_reason = resets > 0 ? TrackingLoss::DisagreesWithImu : TrackingLoss::None;
+    r.map_initialised = map_initialised;
+    reports_.push(r);
+  };
+  scan(0, true, false);
+  scan(0, false, true);
+  double t = 10.0;
+  const auto evaluate = [&] {
+    t += 0.1;
+    aggregator_.evaluate(SensorTimeTick{t, t - 0.01, t - 0.01, 0, reports_.pushed()});
+  };
+  evaluate();
+  evaluate();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(0, false, false);
+  scan(1, false, false);  // the registration gave up its map
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);
+  EXPECT_NE(log_.str().find("tracking -> lost: registrations disagree with the IMU-propagated pose"),
+            std::string::npos)
+      << log_.str();
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);  // no new map yet
+  scan(1, true, false);
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
+  scan(1, false, true);
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.resets = 1;
+  aggregator_.publish(0, 0, status_);
+  EXPECT_EQ(status_.resets, 1);
+}
+
 }  // namespace
 }  // namespace tumble::daemon
