@@ -14,6 +14,7 @@
 #include "core/imu_fuser.hpp"
 #include "core/scan_registration.hpp"
 #include "core/trajectory.hpp"
+#include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "daemon/worker_pool.hpp"
 #include "drivers/rs16/decoder_stats.hpp"
@@ -58,10 +59,13 @@ class CoreRegistrationStage : public RegistrationStage {
  private:
   void fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out);
   void fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const;
+  void warn_of_packet_faults(const rs16::DecoderStats& before, double now_s);
 
   OdometryParams params_;
+  double min_scan_coverage_;
   rs16::ScanAssembler assembler_;
   rs16::DecoderStats assembly_stats_;
+  RateLimitedLog fault_log_{1, 10.0};  // duplicated, late and short scans, once per period each
   WorkerPool pool_;  // before registration_, which keeps a reference
   ScanRegistration registration_;
   Trajectory trajectory_;

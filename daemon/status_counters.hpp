@@ -25,6 +25,8 @@ struct PipelineCounters {
   std::atomic<std::int64_t> imu_frames{0};
   std::atomic<std::int64_t> imu_bad_frames{0};
   std::atomic<std::int64_t> imu_gaps{0};
+  std::atomic<std::int64_t> imu_duplicate_frames{0};
+  std::atomic<std::int64_t> imu_out_of_order_frames{0};
   ClockEstimate imu_clock;
   ClockEstimate lidar_clock;
   std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
@@ -40,6 +42,11 @@ struct PipelineCounters {
   std::atomic<std::int64_t> scans_registered{0};
   std::atomic<std::int64_t> scans_dropped{0};           // discarded: too far behind
   std::atomic<std::int64_t> scans_short_trajectory{0};  // registered before the trajectory covered them
+  // (scan assembly, on the registration thread)
+  std::atomic<std::int64_t> lidar_duplicate_packets{0};
+  std::atomic<std::int64_t> lidar_late_packets{0};
+  std::atomic<std::int64_t> lidar_late_packets_dropped{0};
+  std::atomic<std::int64_t> scans_short_coverage{0};  // skipped: not a whole revolution
 };
 
 }  // namespace tumble::daemon
