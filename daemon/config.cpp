@@ -71,6 +71,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("difop_port", l.difop_port, IntRange{1, 65535});
     v.field("source_ip", l.source_ip, Ipv4Address{true});
     v.field("split_azimuth_deg", l.split_azimuth_deg, Range{0.0, 360.0});
+    v.field("min_scan_coverage", l.min_scan_coverage, Range{0.0, 1.0});
     v.field("min_range_m", l.min_range_m, Range{0.0, 300.0});
     v.field("max_range_m", l.max_range_m, Range{0.1, 300.0});
     v.field("clock", l.clock, Choice<LidarClock>{kClocks});

@@ -38,6 +38,7 @@ struct LidarConfig {
   int difop_port = 7788;
   std::string source_ip;  // empty: accept datagrams from any address
   double split_azimuth_deg = 0.0;
+  double min_scan_coverage = 0.9;  // fraction of a turn; shorter scans are skipped (and counted)
   double min_range_m = 0.4;
   double max_range_m = 200.0;
   LidarClock clock = LidarClock::Free;

@@ -138,9 +138,20 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
 CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans,
                                              std::size_t threads, std::function<void(std::size_t)> on_helper_start)
     : params_(params),
+      min_scan_coverage_(scans.min_scan_coverage),
       assembler_(scans,
-                 [this](Scan& scan, const rs16::ScanReport&) {
+                 [this](Scan& scan, const rs16::ScanReport& report) {
                    if (scan.points.empty()) return;
+                   if (report.short_coverage) {
+                     // Registered as if whole, a part of a turn weighs too little
+                     // against the map and may slide along it.
+                     fault_log_.warn("short scan", scan.points.back().t_s,
+                                     "lidar: scan {} covers {:.0f} % of a turn (lidar.min_scan_coverage {:.0f} %): "
+                                     "skipped; {} so far",
+                                     scan.index, report.azimuth_coverage * 100.0, min_scan_coverage_ * 100.0,
+                                     assembly_stats_.scans_short_coverage);
+                     return;
+                   }
                    held_.index = scan.index;
                    held_.missing_packets = scan.missing_packets;
                    std::swap(held_.points, scan.points);  // the assembler reuses our previous vector
@@ -156,8 +167,24 @@ std::vector<std::string> CoreRegistrationStage::stage_names() const {
 }
 
 bool CoreRegistrationStage::add_points(const PointBlock& block) {
+  const rs16::DecoderStats before = assembly_stats_;
   assembler_.add(block, assembly_stats_);
+  warn_of_packet_faults(before, block.t_s);
   return holding_;
+}
+
+void CoreRegistrationStage::warn_of_packet_faults(const rs16::DecoderStats& before, double now_s) {
+  const rs16::DecoderStats& now = assembly_stats_;
+  if (now.duplicate_packets > before.duplicate_packets)
+    fault_log_.warn("duplicate packets", now_s, "lidar: duplicated MSOP packet dropped; {} so far",
+                    now.duplicate_packets);
+  if (now.late_packets > before.late_packets)
+    fault_log_.warn("late packets", now_s, "lidar: MSOP packet out of order: put into its scan; {} so far",
+                    now.late_packets);
+  if (now.late_packets_dropped > before.late_packets_dropped)
+    fault_log_.warn("late packets dropped", now_s,
+                    "lidar: MSOP packet out of order, its scan already handed on: dropped; {} so far",
+                    now.late_packets_dropped);
 }
 
 RegistrationStage::TimeSpan CoreRegistrationStage::held_scan_span() const {
@@ -167,8 +194,13 @@ RegistrationStage::TimeSpan CoreRegistrationStage::held_scan_span() const {
 void CoreRegistrationStage::discard_held_scan() { holding_ = false; }
 
 void CoreRegistrationStage::report(PipelineCounters& counters) const {
-  counters.lidar_missing_packets.store(static_cast<std::int64_t>(assembly_stats_.missing_packets),
-                                       std::memory_order_relaxed);
+  constexpr auto relaxed = std::memory_order_relaxed;
+  counters.lidar_missing_packets.store(static_cast<std::int64_t>(assembly_stats_.missing_packets), relaxed);
+  counters.lidar_duplicate_packets.store(static_cast<std::int64_t>(assembly_stats_.duplicate_packets), relaxed);
+  counters.lidar_late_packets.store(static_cast<std::int64_t>(assembly_stats_.late_packets), relaxed);
+  counters.lidar_late_packets_dropped.store(static_cast<std::int64_t>(assembly_stats_.late_packets_dropped),
+                                            relaxed);
+  counters.scans_short_coverage.store(static_cast<std::int64_t>(assembly_stats_.scans_short_coverage), relaxed);
 }
 
 void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,

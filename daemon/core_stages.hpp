@@ -15,6 +15,7 @@
 #include "core/imu_fuser.hpp"
 #include "core/scan_registration.hpp"
 #include "core/trajectory.hpp"
+#include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "daemon/worker_pool.hpp"
 #include "drivers/rs16/decoder_stats.hpp"
@@ -85,10 +86,13 @@ class CoreRegistrationStage : public RegistrationStage {
     double t_s = 0.0;
     Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
   };
+  void warn_of_packet_faults(const rs16::DecoderStats& before, double now_s);
 
   OdometryParams params_;
+  double min_scan_coverage_;
   rs16::ScanAssembler assembler_;
   rs16::DecoderStats assembly_stats_;
+  RateLimitedLog fault_log_{1, 10.0};  // duplicated, late and short scans, once per period each
   WorkerPool pool_;  // before registration_, which keeps a reference
   ScanRegistration registration_;
   Trajectory trajectory_;

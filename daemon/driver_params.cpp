@@ -92,7 +92,8 @@ rs16::SourceConfig lidar_source_config(const LidarConfig& lidar) {
 }
 
 rs16::ScanAssemblerConfig scan_assembler_config(const LidarConfig& lidar) {
-  return rs16::ScanAssemblerConfig{.split_azimuth_deg = lidar.split_azimuth_deg};
+  return rs16::ScanAssemblerConfig{.split_azimuth_deg = lidar.split_azimuth_deg,
+                                   .min_scan_coverage = lidar.min_scan_coverage};
 }
 
 mti::MtiStreamOptions imu_stream_options(const ImuConfig& imu) {

@@ -9,10 +9,32 @@ void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, Pipeli
   counters.imu_frames.store(static_cast<std::int64_t>(stats.frames.frames), relaxed);
   counters.imu_bad_frames.store(static_cast<std::int64_t>(stats.frames.bad_frames()), relaxed);
   counters.imu_gaps.store(static_cast<std::int64_t>(stats.sample_time_gaps + stats.packet_counter_gaps), relaxed);
+  counters.imu_duplicate_frames.store(static_cast<std::int64_t>(stats.duplicate_frames), relaxed);
+  counters.imu_out_of_order_frames.store(static_cast<std::int64_t>(stats.out_of_order_frames), relaxed);
   if (clock.ready()) {
     counters.imu_clock.offset_s.store(clock.offset_s(), relaxed);
     counters.imu_clock.drift_ppm.store(clock.drift() * 1e6, relaxed);
     counters.imu_clock.jitter_s.store(clock.jitter_s(), relaxed);
+  }
+}
+
+void ImuFaultLog::check(const mti::MtiStats& stats, double now_s) {
+  // Reading starts mid-frame: bytes before the first good frame are no fault.
+  if (stats.frames.frames == 0) discarded_bytes_ = stats.frames.bytes_discarded;
+  if (stats.frames.bytes_discarded > discarded_bytes_) {
+    discarded_bytes_ = stats.frames.bytes_discarded;
+    log_.warn("imu garbage", now_s, "imu: garbage on the serial line: {} bytes skipped between frames so far",
+              discarded_bytes_);
+  }
+  if (stats.duplicate_frames > duplicates_) {
+    duplicates_ = stats.duplicate_frames;
+    log_.warn("imu duplicate", now_s, "imu: duplicated frame (repeated PacketCounter) dropped; {} so far",
+              duplicates_);
+  }
+  if (stats.out_of_order_frames > out_of_order_) {
+    out_of_order_ = stats.out_of_order_frames;
+    log_.warn("imu out of order", now_s, "imu: frame out of order (older PacketCounter) dropped; {} so far",
+              out_of_order_);
   }
 }
 
@@ -21,6 +43,7 @@ MtiByteDecoder::MtiByteDecoder(const ImuConfig& config) : stream_(imu_stream_opt
 void MtiByteDecoder::decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) {
   samples_.clear();
   stream_.feed(bytes.bytes, bytes.arrival_s, samples_);
+  faults_.check(stream_.stats(), bytes.arrival_s);
   for (const ImuSample& sample : samples_) emit(sample);
 }
 
@@ -49,7 +72,8 @@ void LiveImuSource::stop() {
   on_bytes_ = nullptr;
 }
 
-void SerialSampleDecoder::decode(const ImuBytes&, const std::function<void(const ImuSample&)>& emit) {
+void SerialSampleDecoder::decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) {
+  faults_.check(reads_->port->stats(), bytes.arrival_s);
   for (const ImuSample& sample : reads_->samples) emit(sample);
 }
 

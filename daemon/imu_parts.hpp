@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "daemon/config.hpp"
+#include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "drivers/mti/mti_stream.hpp"
 #include "drivers/mti/serial_source.hpp"
@@ -18,6 +19,20 @@
 namespace tumble::daemon {
 
 void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, PipelineCounters& counters);
+
+// Names each fault of the serial stream in the log as it appears (data time),
+// once per period and fault: garbage between frames (after the first good
+// one), duplicated and late frames.
+class ImuFaultLog {
+ public:
+  void check(const mti::MtiStats& stats, double now_s);
+
+ private:
+  std::uint64_t discarded_bytes_ = 0;
+  std::uint64_t duplicates_ = 0;
+  std::uint64_t out_of_order_ = 0;
+  RateLimitedLog log_{1, 10.0};
+};
 
 class MtiByteDecoder : public ImuDecoder {
  public:
@@ -28,6 +43,7 @@ class MtiByteDecoder : public ImuDecoder {
  private:
   mti::MtiStream stream_;
   std::vector<ImuSample> samples_;
+  ImuFaultLog faults_;
 };
 
 // What the live source and its decoder share (both on the io thread).
@@ -55,6 +71,7 @@ class SerialSampleDecoder : public ImuDecoder {
 
  private:
   std::shared_ptr<SerialReads> reads_;
+  ImuFaultLog faults_;
 };
 
 }  // namespace tumble::daemon

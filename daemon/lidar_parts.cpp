@@ -1,5 +1,9 @@
 #include "daemon/lidar_parts.hpp"
 
+#include <spdlog/spdlog.h>
+
+#include <string>
+
 #include "daemon/driver_params.hpp"
 
 namespace tumble::daemon {
@@ -35,25 +39,43 @@ void LiveLidarSource::stop() {
 }
 
 Rs16LidarDecoder::Rs16LidarDecoder(const LidarConfig& config)
-    : source_(lidar_source_config(config)), decoder_(lidar_decoder_config(config)), foreign_log_(1, 10.0) {}
+    : source_(lidar_source_config(config)), decoder_(lidar_decoder_config(config)), fault_log_(1, 10.0) {}
 
 bool Rs16LidarDecoder::decode(const LidarDatagram& datagram, PointBlock& block) {
   const std::optional<rs16::PacketKind> kind = rs16::kind_for_port(source_, datagram.dst_port);
-  const bool wrong_sender = source_.source_ip && datagram.src_ip != *source_.source_ip;
+  bool wrong_sender = false;
+  if (source_.source_ip) {
+    wrong_sender = datagram.src_ip != *source_.source_ip;
+  } else if (kind) {
+    wrong_sender = !sender_.observe(datagram.src_ip, datagram.arrival_s);
+    if (sender_.changed())
+      spdlog::info("lidar: taking datagrams from {} as the lidar's (the busiest sender; lidar.source_ip not set)",
+                   rs16::format_ipv4(*sender_.lidar()));
+  }
   if (!kind || wrong_sender) {
     ++foreign_;
-    foreign_log_.warn("foreign", datagram.arrival_s,
-                      "lidar: ignoring datagrams from {} to port {} (lidar.source_ip {}, ports {}/{}); {} so far",
-                      rs16::format_ipv4(datagram.src_ip), datagram.dst_port,
-                      source_.source_ip ? rs16::format_ipv4(*source_.source_ip) : "any", source_.msop_port,
-                      source_.difop_port, foreign_);
+    fault_log_.warn("foreign", datagram.arrival_s,
+                    "lidar: ignoring datagrams from {} to port {} (lidar.source_ip {}, ports {}/{}); {} so far",
+                    rs16::format_ipv4(datagram.src_ip), datagram.dst_port,
+                    source_.source_ip    ? rs16::format_ipv4(*source_.source_ip)
+                    : sender_.lidar() ? "not set, the lidar is the busiest sender " + rs16::format_ipv4(*sender_.lidar())
+                                      : std::string("not set"),
+                    source_.msop_port, source_.difop_port, foreign_);
     return false;
   }
   if (*kind == rs16::PacketKind::Difop) {
     decoder_.decode_difop(datagram.payload, stats_);
     return false;
   }
-  return decoder_.decode_msop(datagram.payload, datagram.arrival_s, block, stats_);
+  const double offset_before_s = decoder_.clock().offset_s();
+  const bool decoded = decoder_.decode_msop(datagram.payload, datagram.arrival_s, block, stats_);
+  if (decoder_.clock().resets() > clock_resets_) {
+    clock_resets_ = decoder_.clock().resets();
+    fault_log_.warn("clock jump", datagram.arrival_s,
+                      "lidar: header clock jumped by {:+.3f} s against arrival times: clock mapping restarted; {} so far",
+                      offset_before_s - decoder_.clock().offset_s(), clock_resets_);
+  }
+  return decoded;
 }
 
 void Rs16LidarDecoder::report(PipelineCounters& counters) const {

@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 
+#include "daemon/busiest_sender.hpp"
 #include "daemon/config.hpp"
 #include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
@@ -18,8 +19,9 @@
 
 namespace tumble::daemon {
 
-// Both lidar ports, any sender: the decoder filters by lidar.source_ip so
-// that foreign datagrams are counted and reported in one place.
+// Both lidar ports, any sender: the decoder filters by lidar.source_ip (or,
+// without it, takes the busiest sender as the lidar) so that foreign
+// datagrams are counted and reported in one place.
 class LiveLidarSource : public LidarDatagramSource {
  public:
   // Binds the sockets; throws std::runtime_error naming the address and port.
@@ -43,8 +45,10 @@ class Rs16LidarDecoder : public LidarDecoder {
   rs16::SourceConfig source_;
   rs16::Decoder decoder_;
   rs16::DecoderStats stats_;
+  BusiestSender sender_;  // the lidar, when lidar.source_ip is not set
   std::int64_t foreign_ = 0;
-  RateLimitedLog foreign_log_;
+  std::uint64_t clock_resets_ = 0;
+  RateLimitedLog fault_log_;  // foreign datagrams, header clock jumps
 };
 
 }  // namespace tumble::daemon

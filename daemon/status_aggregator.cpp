@@ -165,6 +165,12 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.imu_frames = load(c.imu_frames);
   out.imu_bad_frames = load(c.imu_bad_frames);
   out.imu_gaps = load(c.imu_gaps);
+  out.lidar_duplicate_packets = load(c.lidar_duplicate_packets);
+  out.lidar_late_packets = load(c.lidar_late_packets);
+  out.lidar_late_packets_dropped = load(c.lidar_late_packets_dropped);
+  out.scans_short_coverage = load(c.scans_short_coverage);
+  out.imu_duplicate_frames = load(c.imu_duplicate_frames);
+  out.imu_out_of_order_frames = load(c.imu_out_of_order_frames);
   out.scans_registered = scans;
   out.scans_dropped = load(c.scans_dropped);
   out.scans_short_trajectory = load(c.scans_short_trajectory);

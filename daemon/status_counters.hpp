@@ -25,6 +25,8 @@ struct PipelineCounters {
   std::atomic<std::int64_t> imu_frames{0};
   std::atomic<std::int64_t> imu_bad_frames{0};
   std::atomic<std::int64_t> imu_gaps{0};
+  std::atomic<std::int64_t> imu_duplicate_frames{0};
+  std::atomic<std::int64_t> imu_out_of_order_frames{0};
   ClockEstimate imu_clock;
   ClockEstimate lidar_clock;
   std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
@@ -43,6 +45,11 @@ struct PipelineCounters {
   std::atomic<std::int64_t> scans_imu_bridged{0};       // registered without IMU coverage
   std::atomic<std::int64_t> scans_untrusted{0};         // too far from the IMU prediction: not used
   std::atomic<std::int64_t> resets{0};                  // local maps given up
+  // (scan assembly, on the registration thread)
+  std::atomic<std::int64_t> lidar_duplicate_packets{0};
+  std::atomic<std::int64_t> lidar_late_packets{0};
+  std::atomic<std::int64_t> lidar_late_packets_dropped{0};
+  std::atomic<std::int64_t> scans_short_coverage{0};  // skipped: not a whole revolution
 };
 
 }  // namespace tumble::daemon

@@ -20,6 +20,8 @@ struct MtiStats {
   std::uint64_t stale_samples_dropped = 0;     // the first sample after GoToMeasurement
   std::uint64_t packet_counter_gaps = 0;       // breaks in PacketCounter
   std::uint64_t missing_packets = 0;           // packets those breaks skipped
+  std::uint64_t duplicate_frames = 0;          // MTData2 repeating the newest PacketCounter: dropped
+  std::uint64_t out_of_order_frames = 0;       // MTData2 with an older PacketCounter (arrived late): dropped
   std::uint64_t sample_time_gaps = 0;          // IMU samples more than 1.5 periods after the previous
   std::uint64_t sample_time_backwards = 0;     // IMU samples not after the previous: dropped
   std::uint64_t sensor_clock_restarts = 0;     // SampleTimeFine jumped back: device reset, mapping restarted

@@ -75,9 +75,28 @@ void MtiStream::handle_mtdata2(const XbusFrame& frame, const double* frame_start
   }
   if (!decode_mtdata2(frame.payload, message_, stats_.mtdata2)) return;
   if (message_.packet_counter) {
-    if (const std::uint32_t missing = packet_counter_.observe(*message_.packet_counter)) {
+    // A frame sent twice or arriving late would feed the fuser a time going
+    // backwards: dropped before it can.
+    // A sample clock far back (or far ahead) is a device restart, not a late frame.
+    bool restart = false;
+    if (message_.sample_time_fine && have_last_) {
+      const double step_s = static_cast<double>(unwrapper_.step_to(*message_.sample_time_fine)) / kSampleTimeFineHz;
+      restart = step_s < -options_.restart_threshold_s ||
+                (frame_start_s != nullptr &&
+                 step_s > (*frame_start_s - last_frame_start_s_) + options_.restart_threshold_s);
+    }
+    const CounterStep step = packet_counter_.observe(*message_.packet_counter, restart);
+    if (step.order == CounterOrder::Repeated) {
+      ++stats_.duplicate_frames;
+      return;
+    }
+    if (step.order == CounterOrder::Older) {
+      ++stats_.out_of_order_frames;
+      return;
+    }
+    if (step.missing > 0) {
       ++stats_.packet_counter_gaps;
-      stats_.missing_packets += missing;
+      stats_.missing_packets += step.missing;
     }
   }
   if (!fill_imu_sample(message_, 1.0 / options_.imu_rate_hz, sample_)) {

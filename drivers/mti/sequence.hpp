@@ -14,6 +14,8 @@ inline constexpr double kSampleTimeFineHz = 10'000.0;
 class SampleTimeUnwrapper {
  public:
   std::int64_t unwrap(std::uint32_t sample_time_fine);
+  // The step unwrap() would take to sample_time_fine, without taking it (0 before the first).
+  std::int64_t step_to(std::uint32_t sample_time_fine) const;
   void reset() { started_ = false; }
 
  private:
@@ -22,12 +24,29 @@ class SampleTimeUnwrapper {
   std::int64_t last_unwrapped_ = 0;
 };
 
-// Packets lost between consecutive PacketCounters.
+// Where a PacketCounter stands against the newest one seen so far.
+enum class CounterOrder : std::uint8_t {
+  InSequence,  // the next one, the first one, or one after a break too large to be a reordering
+  Repeated,    // the newest one again: a duplicated frame
+  Older,       // at most kMaxReorder behind the newest: a frame that arrived late
+};
+
+struct CounterStep {
+  CounterOrder order = CounterOrder::InSequence;
+  std::uint32_t missing = 0;  // packets skipped before this one (InSequence only)
+};
+
+// Packets lost, repeated or reordered between PacketCounters.
 class PacketCounterTracker {
  public:
-  // Returns how many packets are missing before this one (0 when in sequence,
-  // also for the first packet and for a repeated counter).
-  std::uint32_t observe(std::uint16_t packet_counter);
+  // Further back than this is not a late frame but a break (a device restart
+  // starts again from 0): counted as skipped packets, and the new reference.
+  static constexpr int kMaxReorder = 64;
+
+  // A Repeated or Older counter leaves the newest one as the reference.
+  // restart: the device started afresh (its sample clock says so), so the
+  // counter is a break even when it is just behind the newest.
+  CounterStep observe(std::uint16_t packet_counter, bool restart = false);
   void reset() { started_ = false; }
 
  private:

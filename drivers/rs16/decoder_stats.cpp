@@ -28,6 +28,10 @@ DecoderStats& DecoderStats::operator+=(const DecoderStats& o) {
   missing_packets += o.missing_packets;
   time_gaps += o.time_gaps;
   scans += o.scans;
+  duplicate_packets += o.duplicate_packets;
+  late_packets += o.late_packets;
+  late_packets_dropped += o.late_packets_dropped;
+  scans_short_coverage += o.scans_short_coverage;
   return *this;
 }
 

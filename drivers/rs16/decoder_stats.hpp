@@ -39,6 +39,10 @@ struct DecoderStats {
   std::uint64_t missing_packets = 0;  // inferred from azimuth jumps between packets
   std::uint64_t time_gaps = 0;        // scans ended by a gap of a revolution or more, or by time going back
   std::uint64_t scans = 0;            // scans emitted
+  std::uint64_t duplicate_packets = 0;     // exact repeats of a recent packet: dropped
+  std::uint64_t late_packets = 0;          // older than the newest: put into their (still open) scan
+  std::uint64_t late_packets_dropped = 0;  // older than the newest, fired before the open scan began: dropped
+  std::uint64_t scans_short_coverage = 0;  // scans emitted covering less than min_scan_coverage of a turn
 
   DecoderStats& operator+=(const DecoderStats& o);
 };

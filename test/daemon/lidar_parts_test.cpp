@@ -83,5 +83,30 @@ TEST(Rs16LidarDecoder, WithoutASourceIpAnySenderIsTheLidar) {
   EXPECT_TRUE(decoder.decode(LidarDatagram{1.0, rs16::parse_ipv4("10.0.0.9"), 6699, 6699, packet}, block));
 }
 
+TEST(Rs16LidarDecoder, WithoutASourceIpTheBusiestSenderIsTheLidarAndTheOthersForeign) {
+  const CapturedLog log;
+  Rs16LidarDecoder decoder(LidarConfig{});
+  const std::array<std::uint8_t, 1248> packet = msop_packet();
+  PointBlock block;
+  PipelineCounters counters;
+  const std::uint32_t lidar = rs16::parse_ipv4("192.168.1.200"), other = rs16::parse_ipv4("192.168.1.201");
+  // Another sensor sends every tenth datagram to the lidar's port.
+  int decoded = 0, from_other = 0;
+  for (int i = 0; i < 200; ++i) {
+    const bool is_other = i % 10 == 9;
+    from_other += is_other;
+    const bool ok = decoder.decode(LidarDatagram{1.0 + 0.0013 * i, is_other ? other : lidar, 6699, 6699, packet}, block);
+    EXPECT_TRUE(!is_other || !ok) << i;
+    decoded += ok;
+  }
+  EXPECT_EQ(decoded, 200 - from_other);
+  decoder.report(counters);
+  EXPECT_EQ(counters.lidar_foreign_packets.load(), from_other);
+  EXPECT_NE(log.text().find("ignoring datagrams from 192.168.1.201 to port 6699 (lidar.source_ip not set, the lidar "
+                            "is the busiest sender 192.168.1.200"),
+            std::string::npos)
+      << log.text();
+}
+
 }  // namespace
 }  // namespace tumble::daemon

@@ -86,6 +86,12 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   counters_.scans_registered = 10;
   counters_.imu_bad_frames = 2;
   counters_.scans_short_trajectory = 3;
+  counters_.lidar_duplicate_packets = 11;
+  counters_.lidar_late_packets = 12;
+  counters_.lidar_late_packets_dropped = 13;
+  counters_.scans_short_coverage = 14;
+  counters_.imu_duplicate_frames = 15;
+  counters_.imu_out_of_order_frames = 16;
   counters_.gyro_saturated_samples[1] = 4;
   counters_.imu_clock.offset_s = 0.25;
   for (int i = 0; i < 5; ++i) imu_ring_.push(i);
@@ -97,6 +103,12 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   EXPECT_FLOAT_EQ(status_.uptime_s, 2.0f);
   EXPECT_EQ(status_.imu_bad_frames, 2);
   EXPECT_EQ(status_.scans_short_trajectory, 3);
+  EXPECT_EQ(status_.lidar_duplicate_packets, 11);
+  EXPECT_EQ(status_.lidar_late_packets, 12);
+  EXPECT_EQ(status_.lidar_late_packets_dropped, 13);
+  EXPECT_EQ(status_.scans_short_coverage, 14);
+  EXPECT_EQ(status_.imu_duplicate_frames, 15);
+  EXPECT_EQ(status_.imu_out_of_order_frames, 16);
   EXPECT_EQ(status_.gyro_saturated_samples[1], 4);
   EXPECT_EQ(status_.imu_clock_offset_s, 0.25);
   ASSERT_EQ(status_.num_rings, 2);

@@ -11,7 +11,8 @@
 //   bit 3  framed MSOP: keep the raw header time instead of a valid, steadily
 //          advancing one
 //   bit 4  framed MSOP: keep the raw block flags instead of FF EE
-// The first input byte also picks the decoder configuration.
+// The first input byte also picks the decoder and scan configuration. The
+// seeds include packets duplicated, swapped and late after their scan closed.
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -43,6 +44,7 @@ DriverConfig config_from(std::uint8_t selector) {
   c.decoder.clock = (selector & 0x10) != 0 ? ClockMode::Free : ClockMode::Synced;
   c.decoder.wait_for_difop = (selector & 0x20) != 0;
   c.scans.split_azimuth_deg = (selector & 0xC0) * 1.0;
+  c.scans.min_scan_coverage = (selector & 0x0F) / 15.0;
   return c;
 }
 

@@ -76,6 +76,8 @@ void write_summary(const std::string& path, const mti::ImuRecordingReader& reade
   std::fprintf(out, "sample time gaps: %llu\n", ull{s.sample_time_gaps});
   std::fprintf(out, "packet counter gaps: %llu (missing packets %llu)\n", ull{s.packet_counter_gaps},
                ull{s.missing_packets});
+  std::fprintf(out, "duplicate frames (dropped): %llu\n", ull{s.duplicate_frames});
+  std::fprintf(out, "out-of-order frames (dropped): %llu\n", ull{s.out_of_order_frames});
   std::fprintf(out, "samples back in time (dropped): %llu\n", ull{s.sample_time_backwards});
   std::fprintf(out, "sensor clock restarts: %llu\n", ull{s.sensor_clock_restarts});
   std::fprintf(out, "samples without sample time: %llu\n", ull{s.samples_without_sample_time});

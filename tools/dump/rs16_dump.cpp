@@ -77,6 +77,10 @@ void write_summary(const std::string& path, const rs16::PcapSource& source, cons
   std::fprintf(out, "missing packets: %llu (in %llu scans)\n", ull{s.missing_packets},
                ull{tally.scans_with_missing_packets});
   std::fprintf(out, "time gaps: %llu\n", ull{s.time_gaps});
+  std::fprintf(out, "duplicate packets (dropped): %llu\n", ull{s.duplicate_packets});
+  std::fprintf(out, "late packets: %llu put into their scan, %llu dropped (scan handed on)\n", ull{s.late_packets},
+               ull{s.late_packets_dropped});
+  std::fprintf(out, "scans with short coverage: %llu\n", ull{s.scans_short_coverage});
   const double arrival_span_s = tally.any_datagram ? tally.last_arrival_s - tally.first_arrival_s : 0.0;
   std::fprintf(out, "msop packet rate: %.1f Hz\n", rate_hz(static_cast<double>(src.msop), arrival_span_s));
   // Between scan ends (the split azimuth), so a partial first scan does not skew it.

@@ -1,6 +1,7 @@
 // tumble-sim: the extreme-motion bench in software. `run` writes one
 // scenario's recordings, `bench` a whole calibration + rolling-cage bench,
-// `live` plays a scenario in real time to UDP and a pty.
+// `live` plays a scenario in real time to UDP and a pty, `faults` rewrites a
+// run with the network's and the serial line's faults.
 #include <CLI/CLI.hpp>
 #include <signal.h>
 
@@ -10,6 +11,7 @@
 #include <iostream>
 
 #include "tools/sim/bench.hpp"
+#include "tools/sim/fault_injector.hpp"
 #include "tools/sim/live.hpp"
 #include "tools/sim/run_writer.hpp"
 
@@ -67,6 +69,21 @@ int command_live(const Scenario& scenario, const LiveOptions& options) {
   return 0;
 }
 
+int command_faults(const std::string& run_dir, const std::string& out_dir, const FaultPlan& plan) {
+  const FaultCounts c = inject_faults(run_dir, out_dir, plan);
+  std::fprintf(stderr,
+               "tumble-sim faults: wrote %s: of %llu MSOP packets %llu lost, %llu duplicated, %llu pairs swapped, "
+               "%llu foreign added; %llu lidar datagrams in the gap, %llu clock-jumped; of %llu IMU reads %llu in "
+               "the gap, %llu garbled\n",
+               out_dir.c_str(), static_cast<unsigned long long>(c.msop_packets),
+               static_cast<unsigned long long>(c.lidar_dropped), static_cast<unsigned long long>(c.lidar_duplicated),
+               static_cast<unsigned long long>(c.lidar_swapped_pairs), static_cast<unsigned long long>(c.lidar_foreign),
+               static_cast<unsigned long long>(c.lidar_gap_dropped),
+               static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.imu_reads),
+               static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads));
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -108,6 +125,23 @@ int main(int argc, char** argv) {
   CLI::Option* live_duration =
       live->add_option("--duration", live_duration_s, "stop after this many run seconds")->check(CLI::PositiveNumber);
 
+  FaultPlan fault_plan;
+  std::string fault_run_dir, lidar_gap, imu_gap, clock_jump;
+  CLI::App* faults = app.add_subcommand("faults", "rewrite a run folder with lidar and IMU faults (faults.yaml says which)");
+  faults->add_option("RUN_DIR", fault_run_dir, "a `tumble-sim run` folder")->required();
+  faults->add_option("OUT_DIR", out_dir, "output folder (created)")->required();
+  faults->add_option("--seed", fault_plan.seed, "which packets and reads are hit (same seed, same bytes)");
+  faults->add_option("--drop-lidar", fault_plan.drop_lidar, "chance an MSOP packet is lost");
+  faults->add_option("--dup-lidar", fault_plan.dup_lidar, "chance an MSOP packet arrives twice");
+  faults->add_option("--swap-lidar", fault_plan.swap_lidar, "chance an MSOP packet swaps places with the next");
+  faults->add_option("--foreign-lidar", fault_plan.foreign_lidar,
+                     "chance an MSOP packet is followed by one from 192.168.1.201");
+  faults->add_option("--imu-garbage", fault_plan.imu_garbage, "chance a serial read is preceded by 1-40 garbage bytes");
+  CLI::Option* lidar_gap_option = faults->add_option("--lidar-gap", lidar_gap, "T,D: no lidar datagram for D s from T s");
+  CLI::Option* imu_gap_option = faults->add_option("--imu-gap", imu_gap, "T,D: no serial read for D s from T s");
+  CLI::Option* clock_jump_option =
+      faults->add_option("--lidar-clock-jump", clock_jump, "T,S: lidar header times jump by S s from T s on");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -125,6 +159,13 @@ int main(int argc, char** argv) {
     if (bench->parsed()) {
       write_bench(plan_bench(bench_options.seed), out_dir, bench_options, std::cerr);
       return 0;
+    }
+    if (faults->parsed()) {
+      if (lidar_gap_option->count() > 0) fault_plan.lidar_gap = parse_fault_window("--lidar-gap", lidar_gap);
+      if (imu_gap_option->count() > 0) fault_plan.imu_gap = parse_fault_window("--imu-gap", imu_gap);
+      if (clock_jump_option->count() > 0)
+        fault_plan.lidar_clock_jump = parse_clock_jump("--lidar-clock-jump", clock_jump);
+      return command_faults(fault_run_dir, out_dir, fault_plan);
     }
     if (live->parsed()) {
       if (live_duration->count() > 0) live_options.duration_s = live_duration_s;

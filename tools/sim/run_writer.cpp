@@ -8,6 +8,7 @@
 
 #include "drivers/pcap/pcap_file.hpp"
 #include "drivers/pcap/udp_frame.hpp"
+#include "tools/sim/pending_file.hpp"
 
 namespace tumble::sim {
 namespace {
@@ -16,28 +17,6 @@ namespace fs = std::filesystem;
 
 struct FileCloser {
   void operator()(std::FILE* f) const { std::fclose(f); }
-};
-
-// Written under a temporary name and renamed when complete, so a folder never
-// holds a truncated file under a final name.
-class PendingFile {
- public:
-  explicit PendingFile(fs::path final_path) : final_(std::move(final_path)), temp_(final_.string() + ".tmp") {}
-  ~PendingFile() {
-    std::error_code ignored;
-    if (!committed_) fs::remove(temp_, ignored);
-  }
-  PendingFile(const PendingFile&) = delete;
-  PendingFile& operator=(const PendingFile&) = delete;
-  const fs::path& temp() const { return temp_; }
-  void commit() {
-    fs::rename(temp_, final_);
-    committed_ = true;
-  }
-
- private:
-  fs::path final_, temp_;
-  bool committed_ = false;
 };
 
 void write_lidar_pcap(const SimRun& run, const fs::path& path, RunSummary& summary) {

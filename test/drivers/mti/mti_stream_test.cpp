@@ -221,6 +221,26 @@ TEST(MtiStream, ARepeatedSampleTimeIsDropped) {
   EXPECT_EQ(stream.stats().sample_time_backwards, 1u);
 }
 
+TEST(MtiStream, DuplicatedAndLateFramesAreDroppedAndCountedNeverFedBackInTime) {
+  MtiStream stream;
+  std::vector<ImuSample> out;
+  const double period_s = 0.01;
+  // Counters 1 2 2 4 3 5 6 4: a duplicate, one frame overtaken, one far too late.
+  const std::uint16_t counters[] = {1, 2, 2, 4, 3, 5, 6, 4};
+  for (std::size_t i = 0; i < std::size(counters); ++i) {
+    const std::uint16_t c = counters[i];
+    stream.feed(imu_frame(c, 100u * c), kHost0_s + period_s * static_cast<double>(i), out);
+  }
+  ASSERT_EQ(out.size(), 5u);  // 1 2 4 5 6
+  for (std::size_t i = 1; i < out.size(); ++i) EXPECT_LT(out[i - 1].t_s, out[i].t_s);
+  EXPECT_EQ(stream.stats().duplicate_frames, 1u);
+  EXPECT_EQ(stream.stats().out_of_order_frames, 2u);
+  EXPECT_EQ(stream.stats().packet_counter_gaps, 1u);  // 3 had not come when 4 did
+  EXPECT_EQ(stream.stats().missing_packets, 1u);
+  EXPECT_EQ(stream.stats().sample_time_backwards, 0u);
+  EXPECT_EQ(stream.stats().sensor_clock_restarts, 0u);
+}
+
 TEST(MtiStream, SamplesWithoutSampleTimeUseTheArrivalOrAreDropped) {
   Bytes p;
   append_reals_packet(p, xdi::kAcceleration, std::array<double, 3>{0, 0, 9.8}, NumberFormat::Float32);

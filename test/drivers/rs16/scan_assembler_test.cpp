@@ -19,12 +19,24 @@ struct ScanSeen {
   std::vector<LidarPoint> points;
 };
 
+bool same_points(const std::vector<LidarPoint>& a, const std::vector<LidarPoint>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    if (a[i].t_s != b[i].t_s || a[i].azimuth_deg != b[i].azimuth_deg || a[i].laser != b[i].laser) return false;
+  }
+  return true;
+}
+
+// The scans of packets [0, 160) fed in order, to compare a disordered feed with.
+std::vector<ScanSeen> clean_scans(const test::StreamSpec& spec);
+
 // Decodes the stream's packets (those not in skip) into an assembler.
 class Harness {
  public:
   explicit Harness(double split_deg = 0.0)
       : assembler_({split_deg}, [this](Scan& scan, const ScanReport& report) {
           scans.push_back({scan.index, scan.missing_packets, report.ended_by_gap, scan.points});
+          reports.push_back(report);
         }) {}
 
   void feed(const test::StreamSpec& spec, std::int64_t index) {
@@ -37,13 +49,32 @@ class Harness {
       if (!skip.contains(i)) feed(spec, i);
   }
 
+  std::size_t assembler_points() const { return assembler_.pending_points(); }
+
   std::vector<ScanSeen> scans;
+  std::vector<ScanReport> reports;
   DecoderStats stats;
 
  private:
   Decoder decoder_;
   ScanAssembler assembler_;
 };
+
+std::vector<ScanSeen> clean_scans(const test::StreamSpec& spec) {
+  Harness h;
+  h.feed_range(spec, 0, 160);
+  return h.scans;
+}
+
+void expect_same_scans(const std::vector<ScanSeen>& got, const std::vector<ScanSeen>& want) {
+  ASSERT_EQ(got.size(), want.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(got[i].missing, 0u);
+    EXPECT_FALSE(got[i].by_gap);
+    EXPECT_TRUE(same_points(got[i].points, want[i].points));
+  }
+}
 
 // Block azimuths of a scan's points, in order.
 double first_azimuth(const ScanSeen& s) { return s.points.front().azimuth_deg; }
@@ -127,11 +158,11 @@ TEST(Rs16ScanAssembler, AGapOfARevolutionEndsTheScanInsteadOfMerging) {
   EXPECT_EQ(h.scans[1].missing, 0u);
 }
 
-TEST(Rs16ScanAssembler, TimeGoingBackEndsTheScan) {
+TEST(Rs16ScanAssembler, TimeGoingBackARevolutionOrMoreEndsTheScan) {
   test::StreamSpec spec;
   Harness h;
   h.feed_range(spec, 100, 110);
-  h.feed_range(spec, 50, 52);
+  h.feed_range(spec, 20, 22);  // 80 packets back: more than the 75 of a revolution
   ASSERT_EQ(h.scans.size(), 1u);
   EXPECT_TRUE(h.scans[0].by_gap);
   EXPECT_EQ(h.scans[0].points.size(), 10u * 384);
@@ -174,6 +205,81 @@ TEST(Rs16ScanAssembler, HandlerMaySwapThePointsOut) {
   ASSERT_EQ(kept.size(), 2u);
   EXPECT_EQ(kept[0].size() % 32, 0u);
   EXPECT_GT(kept[1].size(), 28000u);
+}
+
+TEST(Rs16ScanAssembler, ExactDuplicatesAreDroppedAndCounted) {
+  test::StreamSpec spec;
+  spec.start_azimuth_deg = 10.0;
+  Harness h;
+  for (std::int64_t i = 0; i < 160; ++i) {
+    h.feed(spec, i);
+    if (i % 10 == 3) h.feed(spec, i);                  // right behind the original
+    if (i % 10 == 7 && i >= 2) h.feed(spec, i - 2);    // two packets later
+  }
+  EXPECT_EQ(h.stats.duplicate_packets, 32u);
+  EXPECT_EQ(h.stats.time_gaps, 0u);
+  EXPECT_EQ(h.stats.missing_packets, 0u);
+  EXPECT_EQ(h.stats.late_packets + h.stats.late_packets_dropped, 0u);
+  expect_same_scans(h.scans, clean_scans(spec));
+}
+
+TEST(Rs16ScanAssembler, SwappedNeighboursGoIntoTheirScanInFiringOrder) {
+  test::StreamSpec spec;
+  spec.start_azimuth_deg = 10.0;
+  Harness h;
+  const std::set<std::int64_t> swapped{5, 30, 61, 90, 120};  // i arrives after i + 1
+  for (std::int64_t i = 0; i < 160; ++i) {
+    if (swapped.contains(i)) {
+      h.feed(spec, i + 1);
+      h.feed(spec, i);
+      ++i;
+    } else {
+      h.feed(spec, i);
+    }
+  }
+  EXPECT_EQ(h.stats.late_packets, swapped.size());
+  EXPECT_EQ(h.stats.late_packets_dropped, 0u);
+  EXPECT_EQ(h.stats.time_gaps, 0u);
+  EXPECT_EQ(h.stats.missing_packets, 0u);
+  expect_same_scans(h.scans, clean_scans(spec));
+}
+
+TEST(Rs16ScanAssembler, ALatePacketWhoseScanHasClosedIsDroppedNotASplit) {
+  test::StreamSpec spec;
+  spec.start_azimuth_deg = 300.0;  // 0 deg is crossed in packet ~12.5
+  Harness h;
+  h.feed_range(spec, 0, 11);
+  h.feed_range(spec, 12, 14);  // the split: scan 0 is handed on
+  h.feed(spec, 11);            // fired before the open scan began
+  h.feed_range(spec, 14, 80);
+  EXPECT_EQ(h.stats.late_packets_dropped, 1u);
+  EXPECT_EQ(h.stats.late_packets, 0u);
+  EXPECT_EQ(h.stats.time_gaps, 0u);
+  EXPECT_EQ(h.stats.missing_packets, 1u);
+  ASSERT_EQ(h.scans.size(), 1u);
+  EXPECT_FALSE(h.scans[0].by_gap);
+  EXPECT_EQ(h.scans[0].points.size(), 11u * 384 + 7u * 32);  // packets 0..10 and 12 up to the split
+  EXPECT_EQ(h.scans[0].missing, 1u);
+  EXPECT_GT(h.assembler_points(), 60u * 384);  // scan 1 goes on undisturbed
+}
+
+TEST(Rs16ScanAssembler, AScanCoveringLessThanTheMinimumTurnIsReportedShort) {
+  test::StreamSpec spec;
+  spec.start_azimuth_deg = 200.0;  // the first scan covers 160 deg only
+  Harness h;
+  std::set<std::int64_t> lost;
+  for (std::int64_t i = 150; i < 180; ++i) lost.insert(i);  // 40 % of the third revolution
+  h.feed_range(spec, 0, 250, lost);
+  ASSERT_EQ(h.reports.size(), 3u);
+  EXPECT_NEAR(h.reports[0].azimuth_coverage, 160.0 / 360.0, 0.01);
+  EXPECT_TRUE(h.reports[0].short_coverage);
+  EXPECT_NEAR(h.reports[1].azimuth_coverage, 1.0, 0.01);
+  EXPECT_FALSE(h.reports[1].short_coverage);
+  EXPECT_NEAR(h.reports[2].azimuth_coverage, 0.6, 0.02);
+  EXPECT_TRUE(h.reports[2].short_coverage);
+  EXPECT_EQ(h.stats.scans_short_coverage, 2u);
+  EXPECT_THROW(ScanAssembler({0.0, 1.5}, nullptr), std::invalid_argument);
+  EXPECT_THROW(ScanAssembler({0.0, -0.1}, nullptr), std::invalid_argument);
 }
 
 }  // namespace

@@ -81,6 +81,8 @@ TEST(DumpMti, SummaryCountsFramesSamplesAndSaturation) {
   EXPECT_NE(out.find("non-imu messages: " + std::to_string(100 - samples) + "\n"), std::string::npos) << out;
   EXPECT_NE(out.find("sample rate: 100.00 Hz"), std::string::npos) << out;
   EXPECT_NE(out.find("sample time gaps: 0\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("duplicate frames (dropped): 0\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("out-of-order frames (dropped): 0\n"), std::string::npos) << out;
   EXPECT_NE(out.find("clipped samples: 0\n"), std::string::npos) << out;
   EXPECT_NE(out.find("problem: none"), std::string::npos) << out;
 

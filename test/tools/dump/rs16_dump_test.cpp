@@ -85,6 +85,8 @@ TEST(DumpRs16, SummaryCountsPacketsScansAndDrops) {
   EXPECT_NE(out.find("bad msop packets: 0 "), std::string::npos) << out;
   EXPECT_NE(out.find("missing packets: 0 "), std::string::npos) << out;
   EXPECT_NE(out.find("time gaps: 0\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("duplicate packets (dropped): 0\n"), std::string::npos) << out;
+  EXPECT_NE(out.find("late packets: 0 put into their scan, 0 dropped"), std::string::npos) << out;
   EXPECT_NE(out.find("scan rate: 10.00 Hz"), std::string::npos) << out;  // 600 rpm
   std::size_t in_scans = 0;
   for (const auto& [index, points] : driver_points_per_scan()) in_scans += points;

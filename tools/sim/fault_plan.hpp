@@ -1,0 +1,42 @@
+// What `tumble-sim faults` injects into a recorded run: the network's and the
+// serial line's misbehaviour, each fault alone or combined, drawn from a seed.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace tumble::sim {
+
+// [start_s, start_s + duration_s), seconds from the run's first record.
+struct FaultWindow {
+  double start_s = 0.0;
+  double duration_s = 0.0;
+};
+
+struct ClockJump {
+  double at_s = 0.0;    // seconds from the run's first record
+  double jump_s = 0.0;  // added to the header time of every lidar packet from then on
+};
+
+struct FaultPlan {
+  std::uint64_t seed = 1;
+  double drop_lidar = 0.0;     // chance an MSOP packet is lost
+  double dup_lidar = 0.0;      // chance an MSOP packet arrives twice
+  double swap_lidar = 0.0;     // chance an MSOP packet swaps places with the next one
+  double foreign_lidar = 0.0;  // chance an MSOP packet is followed by one from a foreign sender
+  double imu_garbage = 0.0;    // chance a serial read is preceded by 1..40 garbage bytes
+  std::optional<FaultWindow> lidar_gap;  // no lidar datagram arrives
+  std::optional<FaultWindow> imu_gap;    // no serial read arrives
+  std::optional<ClockJump> lidar_clock_jump;
+};
+
+// Throws std::invalid_argument naming the option and what it allows.
+void validate(const FaultPlan& plan);
+
+// "T,D" for --lidar-gap / --imu-gap and "T,S" for --lidar-clock-jump; throws
+// std::invalid_argument naming the option when text is not two numbers.
+FaultWindow parse_fault_window(const std::string& option, const std::string& text);
+ClockJump parse_clock_jump(const std::string& option, const std::string& text);
+
+}  // namespace tumble::sim
