@@ -30,8 +30,16 @@ install -m 644 "$here/copyright" "$doc/copyright"
 maintainer=$(sed -n 's/^Maintainer: //p' "$here/control.in")
 # The changelog's date: the source's commit (reproducible), else now.
 epoch=${SOURCE_DATE_EPOCH:-$(git -C "$here" log -1 --format=%ct 2>/dev/null || date +%s)}
+# A native package (no Debian revision): changelog.gz, not changelog.Debian.gz.
 printf 'tumble (%s) unstable; urgency=medium\n\n  * tumble %s, built from its CMake project.\n\n -- %s  %s\n' \
-  "$version" "$version" "$maintainer" "$(LC_ALL=C date -u -R -d "@$epoch")" | gzip -9n >"$doc/changelog.Debian.gz"
+  "$version" "$version" "$maintainer" "$(LC_ALL=C date -u -R -d "@$epoch")" | gzip -9n >"$doc/changelog.gz"
+# Debian's Java policy: a public jar is NAME-VERSION.jar, NAME.jar links to it
+# (tumble-spy uses NAME.jar).
+jar=$stage/usr/share/java/tumble-lcmtypes.jar
+if [ -f "$jar" ]; then
+  mv "$jar" "${jar%.jar}-$version.jar"
+  ln -s "tumble-lcmtypes-$version.jar" "$jar"
+fi
 
 # Every file under /etc is a conffile: a user's edit survives upgrades.
 (cd "$stage" && find etc -type f | sed 's|^|/|' | sort) >"$stage/DEBIAN/conffiles"

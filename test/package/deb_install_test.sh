@@ -27,7 +27,11 @@ upgrade=$("$src/packaging/build-deb.sh" "$build" "$arch" "$work/debs" "$version+
 root=$work/root
 mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates"
 : >"$root/var/lib/dpkg/status"
-in_root() { dpkg --root="$root" --force-script-chrootless --force-depends --log="$work/dpkg.log" "$@"; }
+# dpkg's output (mostly the dependencies --force-depends overrides) only when it fails.
+in_root() {
+  dpkg --root="$root" --force-script-chrootless --force-depends --log="$work/dpkg.log" "$@" >"$work/dpkg.out" 2>&1 ||
+    { cat "$work/dpkg.out" >&2; fail "dpkg $*"; }
+}
 installed_version() { dpkg-query --root="$root" -W -f='${Status} ${Version}' tumble 2>/dev/null || true; }
 files_outside_dpkg() { (cd "$root" && find . \( -type f -o -type l \) ! -path './var/lib/dpkg/*' | sort); }
 
@@ -76,8 +80,9 @@ in_root --purge tumble
 [ -z "$(installed_version)" ] || [ "$(installed_version)" = "unknown ok not-installed " ] ||
   fail "status after purge: $(installed_version)"
 # What Debian Policy keeps: the system user (9.2.2: packages do not remove
-# users), i.e. the account files systemd-sysusers wrote (and their backups).
-left=$(files_outside_dpkg | grep -v -x -E '\./etc/(passwd|group|shadow|gshadow)-?' || true)
+# users), i.e. the account files systemd-sysusers wrote, their backups and
+# the lock file of the shadow suite (present on every Debian system).
+left=$(files_outside_dpkg | grep -v -x -E '\./etc/((passwd|group|shadow|gshadow)-?|\.pwd\.lock)' || true)
 [ -z "$left" ] || fail "left after purge: $left"
 [ ! -e "$root/etc/tumble" ] || fail "/etc/tumble left after purge"
 echo "install, unit check, --print-config, upgrade keeping the edited conffile, purge: ok"
