@@ -14,8 +14,30 @@ extern char** environ;
 
 namespace tumble::test {
 
-int spawn_process(const std::vector<std::string>& argv, const std::vector<std::string>& extra_env,
+namespace {
+
+// In a cross-compiled tree the programs built there run under the emulator
+// (CMAKE_CROSSCOMPILING_EMULATOR, space-separated), as ctest runs the tests
+// themselves: without binfmt_misc the kernel cannot execute them. Other
+// programs (systemd-analyze, /bin/sh) are this machine's own.
+std::vector<std::string> command_line(const std::vector<std::string>& argv) {
+#ifdef TUMBLE_TEST_EMULATOR
+  if (argv.at(0).starts_with(TUMBLE_TEST_BINARY_DIR)) {
+    std::vector<std::string> emulated;
+    std::istringstream words(TUMBLE_TEST_EMULATOR);
+    for (std::string word; words >> word;) emulated.push_back(word);
+    emulated.insert(emulated.end(), argv.begin(), argv.end());
+    return emulated;
+  }
+#endif
+  return argv;
+}
+
+}  // namespace
+
+int spawn_process(const std::vector<std::string>& program_argv, const std::vector<std::string>& extra_env,
                   const std::string& out_path, const std::string& err_path) {
+  const std::vector<std::string> argv = command_line(program_argv);
   std::vector<char*> args;
   for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
   args.push_back(nullptr);
@@ -38,7 +60,7 @@ int spawn_process(const std::vector<std::string>& argv, const std::vector<std::s
   posix_spawnattr_setsigmask(&attributes, &none);
   posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK);
   pid_t pid = 0;
-  const int error = posix_spawn(&pid, args[0], &actions, &attributes, args.data(), env.data());
+  const int error = posix_spawnp(&pid, args[0], &actions, &attributes, args.data(), env.data());
   posix_spawn_file_actions_destroy(&actions);
   posix_spawnattr_destroy(&attributes);
   if (error != 0) throw std::runtime_error("posix_spawn " + argv[0] + " failed");

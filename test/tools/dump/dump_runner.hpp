@@ -38,7 +38,7 @@ struct TempFile {
 // args are single-quoted for the shell; none of ours contains a quote.
 inline DumpRun run_dump(const std::vector<std::string>& args) {
   const TempFile err_file("stderr");
-  std::string command = "'" TUMBLE_DUMP_EXE "'";
+  std::string command = TUMBLE_DUMP_EMULATOR "'" TUMBLE_DUMP_EXE "'";
   for (const std::string& a : args) command += " '" + a + "'";
   command += " 2>'" + err_file.path.string() + "'";
   DumpRun run;

@@ -1,0 +1,88 @@
+#!/usr/bin/env bash
+# The Debian package, installed, upgraded and purged in a throwaway root,
+# never on this machine's own system:
+#   deb_install_test.sh BUILD_DIR SOURCE_DIR
+# dpkg --root=DIR keeps its database in DIR; --force-script-chrootless runs
+# the maintainer scripts here with DPKG_ROOT=DIR (DIR has no shell to chroot
+# into), and they honour it: systemd-sysusers --root, deb-systemd-helper's
+# DPKG_ROOT, and no systemctl or udevadm on the running system.
+# --force-depends: DIR's database knows none of the libraries tumble needs.
+set -euo pipefail
+build=$(readlink -f "$1")
+src=$(readlink -f "$2")
+skip() { echo "SKIPPED: $*"; exit 77; }
+[ "$(id -u)" -eq 0 ] || skip "needs root (dpkg installs files owned by root)"
+for tool in dpkg-deb dpkg-shlibdeps systemd-analyze systemd-sysusers deb-systemd-helper; do
+  command -v "$tool" >/dev/null || skip "$tool not installed (Debian packages dpkg-dev, systemd, init-system-helpers)"
+done
+
+work=$(mktemp -d)
+trap 'rm -rf "$work"' EXIT
+fail() { echo "FAILED: $*" >&2; exit 1; }
+arch=$(dpkg --print-architecture)
+version=$(sed -n 's/^CMAKE_PROJECT_VERSION:STATIC=//p' "$build/CMakeCache.txt")
+first=$("$src/packaging/build-deb.sh" "$build" "$arch" "$work/debs")
+upgrade=$("$src/packaging/build-deb.sh" "$build" "$arch" "$work/debs" "$version+upgrade1")
+
+root=$work/root
+mkdir -p "$root/var/lib/dpkg/info" "$root/var/lib/dpkg/updates"
+: >"$root/var/lib/dpkg/status"
+# dpkg's output (mostly the dependencies --force-depends overrides) only when it fails.
+in_root() {
+  dpkg --root="$root" --force-script-chrootless --force-depends --log="$work/dpkg.log" "$@" >"$work/dpkg.out" 2>&1 ||
+    { cat "$work/dpkg.out" >&2; fail "dpkg $*"; }
+}
+installed_version() { dpkg-query --root="$root" -W -f='${Status} ${Version}' tumble 2>/dev/null || true; }
+files_outside_dpkg() { (cd "$root" && find . \( -type f -o -type l \) ! -path './var/lib/dpkg/*' | sort); }
+
+echo "== install $(basename "$first")"
+in_root -i "$first"
+[ "$(installed_version)" = "install ok installed $version" ] || fail "status: $(installed_version)"
+for f in usr/bin/tumbled usr/bin/tumble-sim usr/bin/tumble-eval usr/bin/tumble-calib usr/bin/tumble-dump \
+         usr/bin/tumble-spy usr/share/java/tumble-lcmtypes.jar usr/lib/systemd/system/tumbled.service \
+         usr/lib/sysusers.d/tumble.conf usr/lib/udev/rules.d/99-tumble-mti.rules etc/tumble/tumbled.yaml \
+         usr/share/doc/tumble/copyright; do
+  [ -e "$root/$f" ] || fail "/$f not installed"
+done
+dpkg-query --root="$root" -W -f='${Conffiles}\n' tumble | grep -q '^ /etc/tumble/tumbled.yaml ' ||
+  fail "/etc/tumble/tumbled.yaml is not a conffile"
+grep -q '^tumble:' "$root/etc/passwd" || fail "postinst did not create the user tumble (systemd-sysusers)"
+grep -q '^dialout:.*tumble' "$root/etc/group" || fail "tumble is not in group dialout"
+
+echo "== systemd-analyze verify the installed unit"
+# --root: ExecStart's /usr/bin/tumbled is looked for inside the root. The
+# targets the unit orders itself after come from this machine's systemd,
+# copied into a copy of the root, so the purge check below stays exact.
+verify_root=$work/verify-root
+cp -a "$root" "$verify_root"
+cp -an /usr/lib/systemd/system/. "$verify_root/usr/lib/systemd/system/"
+analyze=$(systemd-analyze verify --root="$verify_root" /usr/lib/systemd/system/tumbled.service 2>&1) ||
+  fail "systemd-analyze verify: $analyze"
+[ -z "$analyze" ] || fail "systemd-analyze verify warns: $analyze"
+
+echo "== the installed tumbled --print-config"
+"$root/usr/bin/tumbled" --config "$root/etc/tumble/tumbled.yaml" --print-config >"$work/config.txt" ||
+  fail "tumbled --print-config exited $?"
+grep -q 'device: "\{0,1\}/dev/ttyUSB0' "$work/config.txt" || fail "--print-config does not show imu.device: $(cat "$work/config.txt")"
+
+echo "== edit the conffile, upgrade to $(basename "$upgrade")"
+sed -i 's|device: "/dev/ttyUSB0"|device: "/dev/xsens"|' "$root/etc/tumble/tumbled.yaml"
+in_root -i "$upgrade"
+[ "$(installed_version)" = "install ok installed $version+upgrade1" ] || fail "status after upgrade: $(installed_version)"
+grep -q 'device: "/dev/xsens"' "$root/etc/tumble/tumbled.yaml" || fail "the upgrade lost the edit of tumbled.yaml"
+"$root/usr/bin/tumbled" --config "$root/etc/tumble/tumbled.yaml" --print-config | grep -q '/dev/xsens' ||
+  fail "the upgraded tumbled does not read the edited tumbled.yaml"
+left=$(cd "$root" && find . -name '*.dpkg-*')
+[ -z "$left" ] || fail "the upgrade left $left"
+
+echo "== purge"
+in_root --purge tumble
+[ -z "$(installed_version)" ] || [ "$(installed_version)" = "unknown ok not-installed " ] ||
+  fail "status after purge: $(installed_version)"
+# What Debian Policy keeps: the system user (9.2.2: packages do not remove
+# users), i.e. the account files systemd-sysusers wrote, their backups and
+# the lock file of the shadow suite (present on every Debian system).
+left=$(files_outside_dpkg | grep -v -x -E '\./etc/((passwd|group|shadow|gshadow)-?|\.pwd\.lock)' || true)
+[ -z "$left" ] || fail "left after purge: $left"
+[ ! -e "$root/etc/tumble" ] || fail "/etc/tumble left after purge"
+echo "install, unit check, --print-config, upgrade keeping the edited conffile, purge: ok"
