@@ -84,4 +84,35 @@ void ImuPty::write(std::span<const std::uint8_t> bytes) {
   }
 }
 
+void ImuPty::read_host(std::vector<std::uint8_t>& out) {
+  std::uint8_t buffer[4096];
+  for (;;) {
+    const ssize_t n = ::read(master_, buffer, sizeof buffer);
+    if (n > 0) {
+      out.insert(out.end(), buffer, buffer + n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    return;  // EAGAIN: all read
+  }
+}
+
+std::optional<std::uint32_t> ImuPty::line_baud() const {
+  termios tio{};
+  if (::tcgetattr(slave_, &tio) != 0) return std::nullopt;
+  switch (::cfgetospeed(&tio)) {
+    case B4800: return 4800;
+    case B9600: return 9600;
+    case B19200: return 19200;
+    case B38400: return 38400;
+    case B57600: return 57600;
+    case B115200: return 115200;
+    case B230400: return 230400;
+    case B460800: return 460800;
+    case B921600: return 921600;
+    case B2000000: return 2000000;
+    default: return std::nullopt;
+  }
+}
+
 }  // namespace tumble::sim
