@@ -20,7 +20,10 @@ std::int64_t monotonic_ns() {
 }  // namespace
 
 LiveMti::LiveMti(ImuPty& pty, const MtiDeviceOptions& options, std::int64_t start_mono_ns)
-    : pty_(pty), device_(options, 0.0), start_mono_ns_(start_mono_ns) {}
+    : pty_(pty), device_(options, 0.0), start_mono_ns_(start_mono_ns) {
+  // A reader that sets no speed of its own (cat, a test) reads at the device's.
+  pty_.set_line_baud(device_.baud());
+}
 
 double LiveMti::device_time_s(std::int64_t mono_ns) const {
   return static_cast<double>(mono_ns - start_mono_ns_) * 1e-9;

@@ -10,9 +10,15 @@
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
 namespace tumble::sim {
 namespace {
+
+constexpr std::pair<speed_t, std::uint32_t> kSpeeds[] = {
+    {B4800, 4800},     {B9600, 9600},     {B19200, 19200},   {B38400, 38400},   {B57600, 57600},
+    {B115200, 115200}, {B230400, 230400}, {B460800, 460800}, {B921600, 921600}, {B2000000, 2000000},
+};
 
 [[noreturn]] void fail_errno(const std::string& what) { throw LiveError(what + ": " + std::strerror(errno)); }
 
@@ -100,19 +106,22 @@ void ImuPty::read_host(std::vector<std::uint8_t>& out) {
 std::optional<std::uint32_t> ImuPty::line_baud() const {
   termios tio{};
   if (::tcgetattr(slave_, &tio) != 0) return std::nullopt;
-  switch (::cfgetospeed(&tio)) {
-    case B4800: return 4800;
-    case B9600: return 9600;
-    case B19200: return 19200;
-    case B38400: return 38400;
-    case B57600: return 57600;
-    case B115200: return 115200;
-    case B230400: return 230400;
-    case B460800: return 460800;
-    case B921600: return 921600;
-    case B2000000: return 2000000;
-    default: return std::nullopt;
+  for (const auto& [speed, baud] : kSpeeds)
+    if (::cfgetospeed(&tio) == speed) return baud;
+  return std::nullopt;
+}
+
+bool ImuPty::set_line_baud(std::uint32_t baud) {
+  for (const auto& [speed, b] : kSpeeds) {
+    if (b != baud) continue;
+    termios tio{};
+    if (::tcgetattr(slave_, &tio) != 0) fail_errno("tcgetattr");
+    ::cfsetispeed(&tio, speed);
+    ::cfsetospeed(&tio, speed);
+    if (::tcsetattr(slave_, TCSANOW, &tio) != 0) fail_errno("tcsetattr");
+    return true;
   }
+  return false;
 }
 
 }  // namespace tumble::sim

@@ -52,6 +52,9 @@ class ImuPty {
   int master_fd() const { return master_; }
   // The speed the host set on the port; nullopt for one termios has no number for.
   std::optional<std::uint32_t> line_baud() const;
+  // Sets the port's speed, as a device's line has it before a host changes
+  // it; false for a speed termios has no constant for.
+  bool set_line_baud(std::uint32_t baud);
 
  private:
   int master_ = -1;
