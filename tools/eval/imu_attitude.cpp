@@ -41,7 +41,7 @@ std::vector<StillPeriod> find_still_periods(const std::vector<ImuSample>& sample
     while (j < samples.size() && looks_still(samples[j], o)) gyro_sum += samples[j++].gyro_rad_s;
     const double length_s = samples[j - 1].t_s - samples[i].t_s;
     if (length_s >= o.still_min_s)
-      periods.push_back({samples[i].t_s, samples[j - 1].t_s, j - i, gyro_sum / static_cast<double>(j - i)});
+      periods.push_back({samples[i].t_s, samples[j - 1].t_s, j - i, gyro_sum / static_cast<double>(j - i), std::nullopt});
     i = j;
   }
   return periods;
@@ -123,10 +123,12 @@ ImuEvaluation evaluate_imu_recording(const std::filesystem::path& recording, con
     a.up_ours = a.q_wi.conjugate() * Eigen::Vector3d::UnitZ();
     if (i < device_up.size()) a.up_device = device_up[i];
     a.accel_m_s2 = s.accel_m_s2;
-    a.still = std::any_of(e.still_periods.begin(), e.still_periods.end(),
-                          [&s](const StillPeriod& p) { return s.t_s >= p.begin_s && s.t_s <= p.end_s; });
+    const auto period = std::find_if(e.still_periods.begin(), e.still_periods.end(),
+                                     [&s](const StillPeriod& p) { return s.t_s >= p.begin_s && s.t_s <= p.end_s; });
+    a.still = period != e.still_periods.end();
     if (a.still) {
       ours_vs_accel.push_back(tilt_between_deg(a.up_ours, a.accel_m_s2));
+      if (!period->entry_tilt_deg) period->entry_tilt_deg = ours_vs_accel.back();
       if (a.up_device) device_vs_accel.push_back(tilt_between_deg(*a.up_device, a.accel_m_s2));
     }
     if (a.up_device) ours_vs_device.push_back(tilt_between_deg(a.up_ours, *a.up_device));

@@ -40,6 +40,10 @@ struct StillPeriod {
   double begin_s = 0.0, end_s = 0.0;
   std::size_t samples = 0;
   Eigen::Vector3d mean_gyro_rad_s = Eigen::Vector3d::Zero();  // the gyro bias there
+  // Ours against the accelerometer at the period's first sample (after the
+  // fuser initialised): the tilt error the motion before it left, before
+  // the accelerometer corrects it.
+  std::optional<double> entry_tilt_deg;
 };
 
 struct AngleStats {

@@ -45,11 +45,13 @@ std::string imu_report_markdown(const ImuEvaluation& e) {
   md += "## Still periods\n\n";
   if (e.still_periods.empty()) md += "None found.\n\n";
   else {
-    md += "| from (s) | to (s) | samples | mean gyro = bias there (deg/s) |\n|---|---|---|---|\n";
+    md += "| from (s) | to (s) | samples | mean gyro = bias there (deg/s) | tilt of ours on entry (deg) |\n"
+          "|---|---|---|---|---|\n";
     for (const StillPeriod& p : e.still_periods)
-      md += format("| %.3f | %.3f | %zu | [%.3f, %.3f, %.3f] |\n", p.begin_s, p.end_s, p.samples,
+      md += format("| %.3f | %.3f | %zu | [%.3f, %.3f, %.3f] | %s |\n", p.begin_s, p.end_s, p.samples,
                    p.mean_gyro_rad_s.x() * kRadToDeg, p.mean_gyro_rad_s.y() * kRadToDeg,
-                   p.mean_gyro_rad_s.z() * kRadToDeg);
+                   p.mean_gyro_rad_s.z() * kRadToDeg,
+                   p.entry_tilt_deg ? format("%.3f", *p.entry_tilt_deg).c_str() : "before initialisation");
     md += "\n";
   }
 
