@@ -42,6 +42,8 @@ TEST_P(EinrideRecording, TiltAgainstTheStillAccelerometerIsWithinOneDegree) {
   ASSERT_TRUE(e.ours_vs_accel.has_value());
   EXPECT_GT(e.ours_vs_accel->count, 30u);
   EXPECT_LE(e.ours_vs_accel->median_deg, 1.0);
+  ASSERT_TRUE(e.still_periods[0].entry_tilt_deg.has_value());  // the fuser initialised inside it
+  EXPECT_LT(*e.still_periods[0].entry_tilt_deg, 1.0);
   // The device's own filter (Euler angles here) is compared too.
   ASSERT_TRUE(e.device_vs_accel.has_value());
   ASSERT_TRUE(e.ours_vs_device.has_value());
