@@ -1,6 +1,6 @@
 // End to end with every real process: tumble-sim live plays the default
-// extreme-motion scenario into loopback UDP and a pty (an MTi-30 already
-// streaming, which tumbled configures: the shipped imu.configure: true),
+// extreme-motion scenario into loopback UDP and a pty (an MTi-30 that
+// tumbled configures: the shipped imu.configure: true),
 // tumbled runs LIVE on
 // them (as systemd would start it), this test subscribes over LCM like any
 // client (udpm, ttl=0) and lcm-logger records the same traffic for the jar
@@ -142,7 +142,11 @@ TEST(LiveEndToEnd, SimulatorToTumbledToLcmSubscribersAndLogger) {
   lcm.subscribe("TUMBLE_STATUS", &Received::on_status, &received);
 
   Child logger({LCM_LOGGER, std::string("--lcm-url=") + kUrl, "-f", log_file.string()}, {}, dir / "lcm-logger");
-  Child sim({TUMBLE_SIM, "live", TUMBLE_E2E_SCENARIO, "--host", "127.0.0.1"}, {}, dir / "sim");
+  // The MTi waits in config state and the run starts once tumbled has
+  // configured it, so tumbled sees the run's still start (its fuser levels there).
+  Child sim({TUMBLE_SIM, "live", TUMBLE_E2E_SCENARIO, "--host", "127.0.0.1", "--mti-start", "config",
+             "--start-when-measuring"},
+            {}, dir / "sim");
   std::string pty;
   for (const auto until = Clock::now() + std::chrono::seconds(10); pty.empty() && Clock::now() < until;) {
     pty = line_after(sim.out(), "imu-pty ");

@@ -14,6 +14,7 @@ namespace {
 
 constexpr std::int64_t kLateNs = 1'000'000;
 constexpr std::int64_t kStartLeadNs = 20'000'000;  // time to set up before the first event
+constexpr std::int64_t kMeasuringCheckNs = 10'000'000;  // waiting for the device to measure
 
 std::int64_t clock_ns(clockid_t clock) {
   timespec ts{};
@@ -40,14 +41,20 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
   announce << "imu-pty " << pty.slave_path() << "\n"
            << "lidar-udp " << options.host << " " << options.msop_port << " " << options.difop_port << std::endl;
 
+  MtiDeviceOptions device = options.mti;
+  device.baud = static_cast<std::uint32_t>(run.scenario().imu_link.baud);
+  LiveMti mti(pty, device, clock_ns(CLOCK_MONOTONIC));
+  LiveSummary summary;
+  while (options.start_when_measuring && !mti.device().measuring()) {
+    if (!mti.wait_until(clock_ns(CLOCK_MONOTONIC) + kMeasuringCheckNs, stop)) {
+      summary.stopped = true;
+      return summary;
+    }
+  }
   // Run time 0 is a moment from now on both clocks; the lidar header clock is
   // the host's real-time clock, as with a synced unit.
   const std::int64_t start_mono_ns = clock_ns(CLOCK_MONOTONIC) + kStartLeadNs;
   run.set_epoch_ns((clock_ns(CLOCK_REALTIME) + kStartLeadNs) / 1000 * 1000);
-  MtiDeviceOptions device = options.mti;
-  device.baud = static_cast<std::uint32_t>(run.scenario().imu_link.baud);
-  LiveMti mti(pty, device, start_mono_ns);
-  LiveSummary summary;
   LidarStream lidar = run.lidar_stream();
   ImuStream imu = run.imu_stream();
   LidarDatagram datagram;

@@ -23,6 +23,9 @@ struct LiveOptions {
   double rate = 1.0;               // 2 = twice real time
   std::optional<double> duration_s;  // play at most this much of the run
   MtiDeviceOptions mti;              // the device on the pty (its baud: the scenario's imu.baud)
+  // Run time 0 is when the device first measures (a host configured it), so
+  // a configuring host sees the run from its start; nothing is sent before.
+  bool start_when_measuring = false;
 };
 
 struct LiveSummary {

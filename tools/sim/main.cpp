@@ -140,6 +140,8 @@ int main(int argc, char** argv) {
                    "seconds from a request to the MTi's answer (a late device)")
       ->check(CLI::NonNegativeNumber);
   live->add_option("--mti-product-code", live_options.mti.product_code, "what the MTi answers ReqProductCode with");
+  live->add_flag("--start-when-measuring", live_options.start_when_measuring,
+                 "start the run when the MTi first measures (with --mti-start config: once the host configured it)");
   live->add_option("--mti-refuse", mti_refuse,
                    "MID:CODE, e.g. C0:33: answer this request (hex MID) with Error 0x42 and this code");
 
