@@ -51,7 +51,7 @@ double max_imu_rate_hz(const std::string& notifications) {
 // Starts the simulator with sim_options and tumbled on its pty, waits up to
 // timeout_s for `wanted` in tumbled's log, then stops both.
 Outcome run_case(const std::string& name, const std::vector<std::string>& sim_options, const std::string& wanted,
-                 double timeout_s) {
+                 double timeout_s, const std::vector<std::string>& tumbled_options = {}) {
   const fs::path dir = fs::path(TUMBLE_E2E_WORK_DIR) / name;
   fs::remove_all(dir);
   fs::create_directories(dir);
@@ -75,9 +75,11 @@ Outcome run_case(const std::string& name, const std::vector<std::string>& sim_op
     return outcome;
   }
   test::NotifySocket systemd;
-  Child tumbled({TUMBLED, "--config", TUMBLE_E2E_SHIPPED_CONFIG, "--lcm-url", "memq://", "--log-level", "info",
-                 "--set", "imu.device=" + pty, "--set", "lidar.bind_address=127.0.0.1"},
-                {"NOTIFY_SOCKET=" + systemd.path()}, dir / "tumbled");
+  std::vector<std::string> tumbled_argv{TUMBLED,    "--config", TUMBLE_E2E_SHIPPED_CONFIG, "--lcm-url",
+                                        "memq://",  "--log-level", "info", "--set", "imu.device=" + pty,
+                                        "--set",    "lidar.bind_address=127.0.0.1"};
+  tumbled_argv.insert(tumbled_argv.end(), tumbled_options.begin(), tumbled_options.end());
+  Child tumbled(tumbled_argv, {"NOTIFY_SOCKET=" + systemd.path()}, dir / "tumbled");
   for (const auto until = Clock::now() + std::chrono::duration<double>(timeout_s);
        !outcome.found && Clock::now() < until && tumbled.running();) {
     systemd.wait_for("READY=1", 20);  // reads every pending notification
@@ -129,6 +131,17 @@ TEST(MtiHandshake, SilentDeviceIsReportedAndRetried) {
   EXPECT_TRUE(o.found) << o.tumbled_log << o.sim_log;
   EXPECT_NE(o.tumbled_log.find("configuring " ), std::string::npos) << o.tumbled_log;
   EXPECT_NE(o.tumbled_log.find("no GoToConfigAck within 2.0 s at 115200 baud"), std::string::npos) << o.tumbled_log;
+  EXPECT_EQ(o.max_imu_hz, 0.0);
+  expect_clean_stop(o);
+}
+
+TEST(MtiHandshake, PortAtAnotherBaudThanTheDeviceIsReportedAsNoAnswer) {
+  // The device stays at 115200; tumbled's port at 460800 reads nothing it can use.
+  const Outcome o = run_case("wrong_baud", {"--mti-start", "config"}, "reconnecting in", 5.0,
+                             {"--set", "imu.baud=460800"});
+  EXPECT_TRUE(o.found) << o.tumbled_log << o.sim_log;
+  EXPECT_NE(o.tumbled_log.find("no GoToConfigAck within 2.0 s at 460800 baud"), std::string::npos) << o.tumbled_log;
+  EXPECT_NE(o.sim_log.find("MTi: 0 requests"), std::string::npos) << o.sim_log;
   EXPECT_EQ(o.max_imu_hz, 0.0);
   expect_clean_stop(o);
 }
