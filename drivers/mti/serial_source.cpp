@@ -168,6 +168,10 @@ void SerialSource::handle_control_frame(const XbusFrame& frame) {
     spdlog::info("mti: {} (id {:08X}, firmware {}) measuring at {} Hz, gyro range {}", d.product_code,
                  d.device_id.value_or(0), d.firmware, options_.configurator.imu_rate_hz,
                  d.ranges.gyro_rad_s ? std::to_string(*d.ranges.gyro_rad_s) + " rad/s" : "unknown");
+    if (!d.ranges.gyro_rad_s)
+      spdlog::warn("mti: product code '{}' names no gyro range this driver knows (an MTi-30 answers e.g. "
+                   "MTi-30-2A8G4): is this the device you meant? Clipping is still taken from its StatusWord",
+                   d.product_code);
   }
 }
 

@@ -1,5 +1,7 @@
 // End to end with every real process: tumble-sim live plays the default
-// extreme-motion scenario into loopback UDP and a pty, tumbled runs LIVE on
+// extreme-motion scenario into loopback UDP and a pty (an MTi-30 that
+// tumbled configures: the shipped imu.configure: true),
+// tumbled runs LIVE on
 // them (as systemd would start it), this test subscribes over LCM like any
 // client (udpm, ttl=0) and lcm-logger records the same traffic for the jar
 // test. Run inside a private network namespace (in_private_network.sh).
@@ -25,6 +27,7 @@
 
 #include "test/daemon/notify_socket.hpp"
 #include "test/daemon/process.hpp"
+#include "test/e2e/child.hpp"
 #include "tumble/odometry_t.hpp"
 #include "tumble/registration_t.hpp"
 #include "tumble/status_t.hpp"
@@ -40,50 +43,6 @@ constexpr double kImuRate_hz = 100.0;    // the default scenario's
 constexpr double kScanRate_hz = 10.0;    // 600 rpm
 constexpr double kMaxDrift_cm_per_m = 3.0;  // replay of this run: ~0.4 (see README Results)
 constexpr double kMaxDrift_deg_per_m = 0.5;
-
-// A child that is killed (and reaped) if the test ends while it runs.
-class Child {
- public:
-  Child(const std::vector<std::string>& argv, const std::vector<std::string>& env, const fs::path& log_base)
-      : out_(log_base.string() + ".out"), err_(log_base.string() + ".err"),
-        pid_(test::spawn_process(argv, env, out_, err_)) {}
-  ~Child() {
-    if (pid_ > 0) {
-      ::kill(pid_, SIGKILL);
-      test::wait_process(pid_);
-    }
-  }
-  Child(const Child&) = delete;
-  Child& operator=(const Child&) = delete;
-
-  void signal(int number) const { ::kill(pid_, number); }
-  // The exit code, or nullopt when it is still running after timeout_s.
-  std::optional<int> wait_for(double timeout_s) {
-    const auto deadline = Clock::now() + std::chrono::duration<double>(timeout_s);
-    for (;;) {
-      int status = 0;
-      if (::waitpid(pid_, &status, WNOHANG) == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-      }
-      if (Clock::now() >= deadline) return std::nullopt;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-  }
-  bool running() { return pid_ > 0 && !wait_for(0.0).has_value(); }
-  std::string out() const { return slurp(out_); }
-  std::string err() const { return slurp(err_); }
-
- private:
-  static std::string slurp(const std::string& path) {
-    std::ifstream in(path);
-    std::stringstream text;
-    text << in.rdbuf();
-    return text.str();
-  }
-  std::string out_, err_;
-  int pid_;
-};
 
 struct Pose {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();
@@ -183,7 +142,11 @@ TEST(LiveEndToEnd, SimulatorToTumbledToLcmSubscribersAndLogger) {
   lcm.subscribe("TUMBLE_STATUS", &Received::on_status, &received);
 
   Child logger({LCM_LOGGER, std::string("--lcm-url=") + kUrl, "-f", log_file.string()}, {}, dir / "lcm-logger");
-  Child sim({TUMBLE_SIM, "live", TUMBLE_E2E_SCENARIO, "--host", "127.0.0.1"}, {}, dir / "sim");
+  // The MTi waits in config state and the run starts once tumbled has
+  // configured it, so tumbled sees the run's still start (its fuser levels there).
+  Child sim({TUMBLE_SIM, "live", TUMBLE_E2E_SCENARIO, "--host", "127.0.0.1", "--mti-start", "config",
+             "--start-when-measuring"},
+            {}, dir / "sim");
   std::string pty;
   for (const auto until = Clock::now() + std::chrono::seconds(10); pty.empty() && Clock::now() < until;) {
     pty = line_after(sim.out(), "imu-pty ");
@@ -194,7 +157,7 @@ TEST(LiveEndToEnd, SimulatorToTumbledToLcmSubscribersAndLogger) {
   test::NotifySocket systemd;
   ASSERT_TRUE(systemd.bound());
   Child tumbled({TUMBLED, "--lcm-url", kUrl, "--log-level", "info",
-                 "--set", "imu.device=" + pty, "--set", "imu.configure=false",
+                 "--set", "imu.device=" + pty,
                  "--set", "lidar.bind_address=127.0.0.1", "--set", "lidar.clock=synced",
                  "--set", "lcm.publish_scan=true",
                  "--set", "imu.extrinsic_T_LI.translation_m=[0.02, 0, -0.08]",

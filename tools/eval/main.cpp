@@ -13,6 +13,7 @@
 
 #include "tools/eval/bench_index.hpp"
 #include "tools/eval/box_plot.hpp"
+#include "tools/eval/imu_attitude.hpp"
 #include "tools/eval/job_runner.hpp"
 #include "tools/eval/matrix_report.hpp"
 #include "tools/eval/run_score.hpp"
@@ -177,6 +178,27 @@ int run_score(const ScoreOptions& options) {
   return 0;
 }
 
+struct ImuOptions {
+  std::string recording;
+  std::string out_dir = "imu-eval";
+  ImuEvalOptions eval;
+};
+
+int run_imu(const ImuOptions& options) {
+  const ImuEvaluation evaluation = evaluate_imu_recording(options.recording, options.eval);
+  const std::filesystem::path out(options.out_dir);
+  std::filesystem::create_directories(out);
+  write_attitude_tum(evaluation, out / "attitude.tum");
+  const std::string markdown = imu_report_markdown(evaluation);
+  write_text(out / "report.md", markdown);
+  std::fputs(markdown.c_str(), stdout);
+  if (evaluation.attitude.empty()) return 0;
+  const std::string plot = draw_roll_pitch(evaluation, out / "roll_pitch.gp", out / "roll_pitch.png");
+  if (plot.empty()) return 0;
+  std::fprintf(stderr, "tumble-eval imu: no plot: %s\n", plot.c_str());
+  return kExitSomeFailed;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -222,6 +244,21 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
+  ImuOptions imu_options;
+  CLI::App* imu = app.add_subcommand(
+      "imu", "the fuser alone on an IMU recording: attitude.tum, report.md (tilt against the still accelerometer "
+             "and the device), roll_pitch.png");
+  imu->add_option("RECORDING", imu_options.recording, "imu.pcap (tumbled --record, tumble-sim) or a raw MTi byte stream")
+      ->required()
+      ->check(CLI::ExistingFile);
+  imu->add_option("--out", imu_options.out_dir, "output folder (created)")->capture_default_str();
+  imu->add_option("--fuser-static-s", imu_options.eval.fuser_static_s, "the fuser's initial still window")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  imu->add_option("--still-min-s", imu_options.eval.still_min_s, "shortest still period reported")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -231,6 +268,7 @@ int main(int argc, char** argv) {
   try {
     if (matrix->parsed()) return run_matrix(matrix_options, eval, argv[0]);
     if (score->parsed()) return run_score(score_options);
+    if (imu->parsed()) return run_imu(imu_options);
     return run_speed(speed_options, argv[0]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tumble-eval: %s\n", e.what());

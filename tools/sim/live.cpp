@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tools/sim/live_mti.hpp"
 #include "tools/sim/live_sinks.hpp"
 #include "tools/sim/sim_run.hpp"
 
@@ -13,24 +14,12 @@ namespace {
 
 constexpr std::int64_t kLateNs = 1'000'000;
 constexpr std::int64_t kStartLeadNs = 20'000'000;  // time to set up before the first event
-constexpr std::int64_t kStopCheckNs = 100'000'000;  // longest sleep without looking at `stop`
+constexpr std::int64_t kMeasuringCheckNs = 10'000'000;  // waiting for the device to measure
 
 std::int64_t clock_ns(clockid_t clock) {
   timespec ts{};
   clock_gettime(clock, &ts);
   return std::int64_t{ts.tv_sec} * 1'000'000'000 + ts.tv_nsec;
-}
-
-// False when `stop` was raised first.
-bool sleep_until(std::int64_t due_ns, const std::atomic<bool>& stop) {
-  while (!stop.load(std::memory_order_relaxed)) {
-    const std::int64_t now = clock_ns(CLOCK_MONOTONIC);
-    if (now >= due_ns) return true;
-    const std::int64_t wake = std::min(due_ns, now + kStopCheckNs);
-    const timespec ts{static_cast<time_t>(wake / 1'000'000'000), static_cast<long>(wake % 1'000'000'000)};
-    clock_nanosleep(CLOCK_MONOTONIC, TIMER_ABSTIME, &ts, nullptr);  // EINTR: loop and look at stop
-  }
-  return false;
 }
 
 }  // namespace
@@ -52,11 +41,20 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
   announce << "imu-pty " << pty.slave_path() << "\n"
            << "lidar-udp " << options.host << " " << options.msop_port << " " << options.difop_port << std::endl;
 
+  MtiDeviceOptions device = options.mti;
+  device.baud = static_cast<std::uint32_t>(run.scenario().imu_link.baud);
+  LiveMti mti(pty, device, clock_ns(CLOCK_MONOTONIC));
+  LiveSummary summary;
+  while (options.start_when_measuring && !mti.device().measuring()) {
+    if (!mti.wait_until(clock_ns(CLOCK_MONOTONIC) + kMeasuringCheckNs, stop)) {
+      summary.stopped = true;
+      return summary;
+    }
+  }
   // Run time 0 is a moment from now on both clocks; the lidar header clock is
   // the host's real-time clock, as with a synced unit.
   const std::int64_t start_mono_ns = clock_ns(CLOCK_MONOTONIC) + kStartLeadNs;
   run.set_epoch_ns((clock_ns(CLOCK_REALTIME) + kStartLeadNs) / 1000 * 1000);
-  LiveSummary summary;
   LidarStream lidar = run.lidar_stream();
   ImuStream imu = run.imu_stream();
   LidarDatagram datagram;
@@ -67,7 +65,7 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
     const bool take_lidar = have_datagram && (!have_read || datagram.arrival_ns <= read.arrival_ns);
     const std::int64_t arrival_ns = take_lidar ? datagram.arrival_ns : read.arrival_ns;
     const std::int64_t due_ns = start_mono_ns + std::llround(static_cast<double>(arrival_ns) / options.rate);
-    if (!sleep_until(due_ns, stop)) {
+    if (!mti.wait_until(due_ns, stop)) {
       summary.stopped = true;
       break;
     }
@@ -80,13 +78,17 @@ LiveSummary run_live(Scenario scenario, const LiveOptions& options, std::ostream
       ++(datagram.is_difop ? summary.difop_packets : summary.msop_packets);
       have_datagram = lidar.next(datagram);
     } else {
-      pty.write(read.bytes);
+      mti.stream(read.bytes);
       ++summary.imu_reads;
       summary.imu_bytes += read.bytes.size();
       have_read = imu.next(read);
     }
   }
   summary.imu_bytes_dropped = pty.dropped_bytes();
+  summary.imu_bytes_held = mti.counts().stream_bytes_held;
+  summary.imu_baud_mismatch_bytes = mti.counts().baud_mismatch_bytes;
+  summary.mti_requests = mti.device().counts().requests;
+  summary.mti_errors_sent = mti.device().counts().errors_sent;
   return summary;
 }
 

@@ -10,6 +10,7 @@
 #include <ostream>
 #include <string>
 
+#include "tools/sim/mti_device.hpp"
 #include "tools/sim/scenario.hpp"
 
 namespace tumble::sim {
@@ -21,6 +22,10 @@ struct LiveOptions {
   bool allow_remote = false;       // refuse a non-loopback host unless set
   double rate = 1.0;               // 2 = twice real time
   std::optional<double> duration_s;  // play at most this much of the run
+  MtiDeviceOptions mti;              // the device on the pty (its baud: the scenario's imu.baud)
+  // Run time 0 is when the device first measures (a host configured it), so
+  // a configuring host sees the run from its start; nothing is sent before.
+  bool start_when_measuring = false;
 };
 
 struct LiveSummary {
@@ -30,11 +35,17 @@ struct LiveSummary {
   std::uint64_t imu_reads = 0;
   std::uint64_t imu_bytes = 0;
   std::uint64_t imu_bytes_dropped = 0;  // pty buffer full
+  std::uint64_t imu_bytes_held = 0;     // MTData2 not sent: the device was not measuring
+  std::uint64_t imu_baud_mismatch_bytes = 0;  // lost: host and device at different speeds
+  std::uint64_t mti_requests = 0;       // frames the host sent the device
+  std::uint64_t mti_errors_sent = 0;    // answered with Error (MID 0x42)
   std::uint64_t late_events = 0;        // sent more than 1 ms after their time
   double max_late_s = 0.0;              // the worst of them
   bool stopped = false;                 // ended by `stop`, not by the run's end
 };
 
+// The pty behaves as an MTi-30 (mti_device.hpp): it answers the host's
+// configuration handshake and streams only while measuring.
 // Prints "imu-pty <slave path>" then "lidar-udp <host> <msop port> <difop port>"
 // on `announce` before the first byte goes out. The lidar header clock is set
 // to the host's CLOCK_REALTIME at the run's start (a synced lidar at rate 1).

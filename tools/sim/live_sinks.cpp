@@ -10,9 +10,15 @@
 
 #include <cerrno>
 #include <cstring>
+#include <utility>
 
 namespace tumble::sim {
 namespace {
+
+constexpr std::pair<speed_t, std::uint32_t> kSpeeds[] = {
+    {B4800, 4800},     {B9600, 9600},     {B19200, 19200},   {B38400, 38400},   {B57600, 57600},
+    {B115200, 115200}, {B230400, 230400}, {B460800, 460800}, {B921600, 921600}, {B2000000, 2000000},
+};
 
 [[noreturn]] void fail_errno(const std::string& what) { throw LiveError(what + ": " + std::strerror(errno)); }
 
@@ -82,6 +88,40 @@ void ImuPty::write(std::span<const std::uint8_t> bytes) {
     dropped_ += bytes.size();  // EAGAIN: nobody is reading fast enough
     return;
   }
+}
+
+void ImuPty::read_host(std::vector<std::uint8_t>& out) {
+  std::uint8_t buffer[4096];
+  for (;;) {
+    const ssize_t n = ::read(master_, buffer, sizeof buffer);
+    if (n > 0) {
+      out.insert(out.end(), buffer, buffer + n);
+      continue;
+    }
+    if (n < 0 && errno == EINTR) continue;
+    return;  // EAGAIN: all read
+  }
+}
+
+std::optional<std::uint32_t> ImuPty::line_baud() const {
+  termios tio{};
+  if (::tcgetattr(slave_, &tio) != 0) return std::nullopt;
+  for (const auto& [speed, baud] : kSpeeds)
+    if (::cfgetospeed(&tio) == speed) return baud;
+  return std::nullopt;
+}
+
+bool ImuPty::set_line_baud(std::uint32_t baud) {
+  for (const auto& [speed, b] : kSpeeds) {
+    if (b != baud) continue;
+    termios tio{};
+    if (::tcgetattr(slave_, &tio) != 0) fail_errno("tcgetattr");
+    ::cfsetispeed(&tio, speed);
+    ::cfsetospeed(&tio, speed);
+    if (::tcsetattr(slave_, TCSANOW, &tio) != 0) fail_errno("tcsetattr");
+    return true;
+  }
+  return false;
 }
 
 }  // namespace tumble::sim

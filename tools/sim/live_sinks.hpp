@@ -3,9 +3,11 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace tumble::sim {
 
@@ -45,6 +47,14 @@ class ImuPty {
   const std::string& slave_path() const { return slave_path_; }
   void write(std::span<const std::uint8_t> bytes);
   std::uint64_t dropped_bytes() const { return dropped_; }
+  // Appends what the host wrote to its end (never blocks).
+  void read_host(std::vector<std::uint8_t>& out);
+  int master_fd() const { return master_; }
+  // The speed the host set on the port; nullopt for one termios has no number for.
+  std::optional<std::uint32_t> line_baud() const;
+  // Sets the port's speed, as a device's line has it before a host changes
+  // it; false for a speed termios has no constant for.
+  bool set_line_baud(std::uint32_t baud);
 
  private:
   int master_ = -1;

@@ -13,6 +13,7 @@
 #include "tools/sim/bench.hpp"
 #include "tools/sim/fault_injector.hpp"
 #include "tools/sim/live.hpp"
+#include "tools/sim/live_sinks.hpp"
 #include "tools/sim/run_writer.hpp"
 
 namespace {
@@ -60,12 +61,15 @@ int command_live(const Scenario& scenario, const LiveOptions& options) {
   const LiveSummary s = run_live(scenario, options, std::cout, g_stop);
   std::fprintf(stderr,
                "tumble-sim live: %s: %llu MSOP + %llu DIFOP packets (%llu send failures), %llu IMU bytes in %llu "
-               "writes (%llu dropped: pty full), %llu events late by > 1 ms (worst %.1f ms)\n",
+               "writes (%llu dropped: pty full), %llu events late by > 1 ms (worst %.1f ms); MTi: %llu requests, "
+               "%llu errors sent, %llu stream bytes held while not measuring, %llu bytes lost to a baud mismatch\n",
                s.stopped ? "stopped" : "done", static_cast<unsigned long long>(s.msop_packets),
                static_cast<unsigned long long>(s.difop_packets), static_cast<unsigned long long>(s.udp_send_failures),
                static_cast<unsigned long long>(s.imu_bytes), static_cast<unsigned long long>(s.imu_reads),
                static_cast<unsigned long long>(s.imu_bytes_dropped), static_cast<unsigned long long>(s.late_events),
-               s.max_late_s * 1e3);
+               s.max_late_s * 1e3, static_cast<unsigned long long>(s.mti_requests),
+               static_cast<unsigned long long>(s.mti_errors_sent), static_cast<unsigned long long>(s.imu_bytes_held),
+               static_cast<unsigned long long>(s.imu_baud_mismatch_bytes));
   return 0;
 }
 
@@ -82,6 +86,22 @@ int command_faults(const std::string& run_dir, const std::string& out_dir, const
                static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.imu_reads),
                static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads));
   return 0;
+// "C0:33" -> refuse MID 0xC0 with error 33.
+void parse_refusal(const std::string& text, MtiDeviceOptions& mti) {
+  const std::size_t colon = text.find(':');
+  std::size_t mid_end = 0, code_end = 0;
+  unsigned long mid = 0, code = 0;
+  try {
+    mid = std::stoul(text.substr(0, colon), &mid_end, 16);
+    code = std::stoul(text.substr(colon + 1), &code_end, 10);
+  } catch (const std::exception&) {
+    mid_end = 0;
+  }
+  if (colon == std::string::npos || mid_end != colon || code_end != text.size() - colon - 1 || mid > 0xFF ||
+      code > 0xFF)
+    throw LiveError("--mti-refuse: '" + text + "' is not MID:CODE (hex MID, decimal code, e.g. C0:33)");
+  mti.refuse_mid = static_cast<std::uint8_t>(mid);
+  mti.refuse_code = static_cast<std::uint8_t>(code);
 }
 
 }  // namespace
@@ -125,6 +145,20 @@ int main(int argc, char** argv) {
   CLI::Option* live_duration =
       live->add_option("--duration", live_duration_s, "stop after this many run seconds")->check(CLI::PositiveNumber);
 
+  std::string mti_start = "measuring", mti_refuse;
+  live->add_option("--mti-start", mti_start,
+                   "the MTi when the host opens the port: measuring (streaming, as after power-up), config, or "
+                   "wake-up (sends WakeUp, measures unless acknowledged within 0.5 s)")
+      ->check(CLI::IsMember({"measuring", "config", "wake-up"}));
+  live->add_flag("--mti-silent", live_options.mti.silent, "the MTi answers nothing and never streams");
+  live->add_option("--mti-reply-delay", live_options.mti.reply_latency_s,
+                   "seconds from a request to the MTi's answer (a late device)")
+      ->check(CLI::NonNegativeNumber);
+  live->add_option("--mti-product-code", live_options.mti.product_code, "what the MTi answers ReqProductCode with");
+  live->add_flag("--start-when-measuring", live_options.start_when_measuring,
+                 "start the run when the MTi first measures (with --mti-start config: once the host configured it)");
+  live->add_option("--mti-refuse", mti_refuse,
+                   "MID:CODE, e.g. C0:33: answer this request (hex MID) with Error 0x42 and this code");
   FaultPlan fault_plan;
   std::string fault_run_dir, lidar_gap, imu_gap, clock_jump;
   CLI::App* faults = app.add_subcommand("faults", "rewrite a run folder with lidar and IMU faults (faults.yaml says which)");
@@ -169,6 +203,8 @@ int main(int argc, char** argv) {
     }
     if (live->parsed()) {
       if (live_duration->count() > 0) live_options.duration_s = live_duration_s;
+      live_options.mti.start = *parse_mti_start_state(mti_start);
+      if (!mti_refuse.empty()) parse_refusal(mti_refuse, live_options.mti);
       return command_live(scenario_from(scenario_path, live_seed, seed), live_options);
     }
   } catch (const std::exception& e) {
