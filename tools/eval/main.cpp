@@ -93,10 +93,12 @@ RunnerOptions runner_options(const CommonOptions& options, const char* argv0) {
   std::error_code error;
   std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", error);
   if (error) self = argv0;
-  runner.tumbled.tumbled = options.tumbled.empty() ? locate_tumbled(self) : std::filesystem::path(options.tumbled);
-  if (!options.config.empty()) runner.tumbled.config = std::filesystem::absolute(options.config);
   runner.out_dir = options.out_dir.empty() ? std::filesystem::path(options.bench_dir) / "eval"
                                            : std::filesystem::path(options.out_dir);
+  // The jobs run a copy, so a rebuild during the evaluation cannot break them.
+  runner.tumbled.tumbled = copy_tumbled(
+      options.tumbled.empty() ? locate_tumbled(self) : std::filesystem::path(options.tumbled), runner.out_dir);
+  if (!options.config.empty()) runner.tumbled.config = std::filesystem::absolute(options.config);
   runner.parallel_jobs = options.jobs;
   runner.timeout_s = options.timeout_s;
   return runner;

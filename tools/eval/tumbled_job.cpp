@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <stdexcept>
+#include <string>
 
 #include "tools/eval/tum_file.hpp"
 
@@ -69,6 +70,19 @@ std::filesystem::path locate_tumbled(const std::filesystem::path& self_executabl
     looked += (looked.empty() ? "" : ", ") + candidate.string();
   }
   throw std::runtime_error("tumbled not found (looked at " + looked + "); build it or pass --tumbled PATH");
+}
+
+std::filesystem::path copy_tumbled(const std::filesystem::path& tumbled, const std::filesystem::path& dir) {
+  const std::filesystem::path copy = dir / ".tumbled";
+  // Copied beside it, then renamed over it: an earlier evaluation may still
+  // run the old copy, which cannot be opened for writing while it runs.
+  const std::filesystem::path part = dir / (".tumbled." + std::to_string(getpid()));
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  if (!error) std::filesystem::copy_file(tumbled, part, std::filesystem::copy_options::overwrite_existing, error);
+  if (!error) std::filesystem::rename(part, copy, error);
+  if (error) throw std::runtime_error("cannot copy " + tumbled.string() + " to " + copy.string() + ": " + error.message());
+  return copy;
 }
 
 }  // namespace tumble::eval

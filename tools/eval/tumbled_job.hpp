@@ -50,4 +50,10 @@ std::optional<std::string> run_input_problem(const BenchRun& run);
 // std::runtime_error listing where it looked.
 std::filesystem::path locate_tumbled(const std::filesystem::path& self_executable);
 
+// Copies `tumbled` to DIR/.tumbled (replacing an earlier copy, even one that
+// runs) and returns the copy: the evaluation runs the copy, so a rebuild that
+// relinks the original cannot break its jobs ("Permission denied" on a
+// half-written file). Throws std::runtime_error naming the file it could not copy.
+std::filesystem::path copy_tumbled(const std::filesystem::path& tumbled, const std::filesystem::path& dir);
+
 }  // namespace tumble::eval

@@ -4,6 +4,9 @@
 #include "tools/eval/job_runner.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <iterator>
 
 #include "test/tools/eval/eval_test_support.hpp"
 
@@ -81,6 +84,29 @@ TEST(JobRunner, LocatesTumbledInTheBuildTreeOrSaysWhereItLooked) {
   write_file(tumbled, "");
   std::filesystem::permissions(tumbled, std::filesystem::perms::owner_all);
   EXPECT_EQ(locate_tumbled(self), tumbled);
+}
+
+TEST(JobRunner, RunsACopyOfTumbledThatARebuildLeavesAlone) {
+  const TempDir dir("runner");
+  const auto tumbled = dir.path() / "build" / "daemon" / "tumbled";
+  write_file(tumbled, "first build");
+  std::filesystem::permissions(tumbled, std::filesystem::perms::owner_all);
+  const auto out = dir.path() / "eval";
+  const auto copy = copy_tumbled(tumbled, out);
+  EXPECT_EQ(copy, out / ".tumbled");
+  EXPECT_EQ(test::read_file(copy), "first build");
+  EXPECT_EQ(access(copy.c_str(), X_OK), 0);
+  write_file(tumbled, "second build");
+  EXPECT_EQ(test::read_file(copy), "first build");
+  EXPECT_EQ(copy_tumbled(tumbled, out), copy);  // a later evaluation into the same folder
+  EXPECT_EQ(test::read_file(copy), "second build");
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(out), std::filesystem::directory_iterator()), 1);
+  try {
+    copy_tumbled(dir.path() / "no-tumbled-here", out);
+    FAIL() << "copied a tumbled that is not there";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no-tumbled-here"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace
