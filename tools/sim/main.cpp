@@ -86,6 +86,8 @@ int command_faults(const std::string& run_dir, const std::string& out_dir, const
                static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.imu_reads),
                static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads));
   return 0;
+}
+
 // "C0:33" -> refuse MID 0xC0 with error 33.
 void parse_refusal(const std::string& text, MtiDeviceOptions& mti) {
   const std::size_t colon = text.find(':');
