@@ -52,7 +52,7 @@ printf 'Source: tumble\n\nPackage: tumble\nArchitecture: any\n' >"$work/debian/c
 shlibdeps_args=()
 deps=$(cache_value TUMBLE_ARM64_DEPS)
 if [ -n "$deps" ]; then
-  shlibdeps_args+=("-l$deps/usr/lib/$(DEB_HOST_ARCH=$arch dpkg-architecture -qDEB_HOST_MULTIARCH 2>/dev/null)" "-L$deps/shlibs")
+  shlibdeps_args+=("-l$deps/usr/lib/$(dpkg-architecture -a"$arch" -qDEB_HOST_MULTIARCH 2>/dev/null)" "-L$deps/shlibs")
 fi
 elves=()
 for f in "$stage"/usr/bin/*; do
