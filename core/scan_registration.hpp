@@ -52,7 +52,8 @@ struct OdometryParams {
   // apply). Ours: on the 82-run simulated bench (GVTW, de-skew) the window
   // makes the normals 4-5x and a whole replay 1.5x faster; error median
   // 0.52 vs 0.53 cm/m, max 27 vs 53, but the typical run's error 4 % higher
-  // (README, Speed). Not better everywhere, so the default stays the method's.
+  // (README, Speed). tumbled defaults to the window (registration.reading_normals,
+  // issue 14); the core's default stays the method's.
   ReadingNormalSource reading_normal_source = ReadingNormalSource::kNearest;
   ScanLineWindow scan_line_window;
   // The map: radius_m 50, min_point_distance_m 0.05, max_sigma_s_m 1,

@@ -81,7 +81,7 @@ struct RegistrationConfig {
   double icp_voxel_size_m = 0.2;
   int normal_k_map = 20;
   int normal_k_reading = 15;
-  ReadingNormalSource reading_normals = ReadingNormalSource::kNearest;
+  ReadingNormalSource reading_normals = ReadingNormalSource::kScanLines;
   int scan_line_points_each_side = 5;
   int scan_line_rings_each_side = 2;
   double max_match_distance_m = 1.0;

@@ -7,15 +7,15 @@ namespace {
 
 TEST(OdometryParamsFromConfig, ReadingNormalsKeysReachTheCore) {
   const OdometryParams defaults = odometry_params(DaemonConfig{});
-  EXPECT_EQ(defaults.reading_normal_source, ReadingNormalSource::kNearest);
+  EXPECT_EQ(defaults.reading_normal_source, ReadingNormalSource::kScanLines);
   EXPECT_EQ(defaults.reading_normals.k, 15);
 
   const DaemonConfig config = load_config(
-      "registration:\n  reading_normals: scan_lines\n  scan_line_points_each_side: 7\n"
+      "registration:\n  reading_normals: knn\n  scan_line_points_each_side: 7\n"
       "  scan_line_rings_each_side: 3\n  normal_k_reading: 12\n",
       "test.yaml");
   const OdometryParams p = odometry_params(config);
-  EXPECT_EQ(p.reading_normal_source, ReadingNormalSource::kScanLines);
+  EXPECT_EQ(p.reading_normal_source, ReadingNormalSource::kNearest);
   EXPECT_EQ(p.scan_line_window.points_each_side, 7);
   EXPECT_EQ(p.scan_line_window.rings_each_side, 3);
   EXPECT_EQ(p.reading_normals.k, 12);
