@@ -224,9 +224,8 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   if (imu_hole_s(trajectory, out.t_s, t_end_s) > params_.fuser.max_imu_gap_s &&
       predict_from_registrations(out.t_s, t_end_s)) {
     motion = &prediction_;
-    conditions.deskew = false;
+    conditions.trajectory_measured = false;
     out.imu_bridged = true;
-    out.deskew = false;
   }
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
   previous_scan_start_s_ = out.t_s;
