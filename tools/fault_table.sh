@@ -41,9 +41,14 @@ for entry in "${faults[@]}"; do
       --trajectory-out "$dir/trajectory.tum" > "$dir/tumbled.log" 2>&1 || true
     error=$("$eval" score "$dir/ground_truth.tum" "$dir/trajectory.tum" 2>&1 |
             sed -n 's/.*final pose: .*→ \*\*\([0-9.]* cm\/m\)\*\*.*/\1/p' | head -1)
-    seen=$(grep -E 'state .* -> |\[warning\]' "$dir/tumbled.log" | grep -v 'poor scan registration\|registration good again' |
-           sed -E 's/^\[[^]]*\] \[[a-z]*\] //; s/state [a-z_]+ -> ([a-z_]+): ([^(]*)\(data time ([0-9.]+) s\)/\1 (\2at \3 s)/' |
-           grep -v '^initialising (IMU and lidar\|^tracking (first scan' | head -4 | paste -sd ';' | sed 's/|/\\|/g')
+    # The state changes after start-up (a good-scan count flickering between
+    # tracking and degraded left out) and how many warnings named a fault.
+    states=$(grep -E 'state [a-z_]+( -> [a-z_]+)?: ' "$dir/tumbled.log" |
+             grep -v 'poor scan registration\|registration good again\|IMU and lidar data arriving\|first scan registered' |
+             sed -E 's/^.*state ([a-z_]+ -> )?([a-z_]+): ([^(]*) \(data time ([0-9.]+) s\)/\2: \3 at \4 s/' |
+             paste -sd ';' | sed 's/;/; /g')
+    warnings=$(grep -v 'state ' "$dir/tumbled.log" | grep -c '\[warning\]' || true)
+    seen="${states:-no state change}; $warnings other warnings"
     echo "| $name | $(basename "$run") | ${error:-none} | ${seen:-–} |"
   done
 done
