@@ -113,7 +113,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     input.rings = cloud.rings;
     input.t_scan_start_s = t_start;
     input.t_scan_end_s = t_last;
-    input.deskewed = conditions.deskew;
+    input.deskewed = conditions.deskew && conditions.trajectory_measured;
     compute_point_weights(params_.weights, trajectory, input,
                           PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
   };

@@ -129,9 +129,10 @@ enum class ScanOutcome {
 
 // When the sensors were not all there (the daemon, issue 13): how to take one scan.
 struct ScanConditions {
-  // false: the trajectory is only a prediction (no IMU over the scan), so the
-  // scan is not de-skewed and gets the no-de-skew σ's (algorithm.md §3).
   bool deskew = true;
+  // false: the trajectory is only a prediction (no IMU over the scan), so the
+  // points get the no-de-skew σ's (algorithm.md §3) even when de-skewed with it.
+  bool trajectory_measured = true;
   // The registered pose is accepted only this close to the trajectory's (<= 0:
   // any); otherwise the result is `rejected`, not `registered`, and the map
   // is left as it was.

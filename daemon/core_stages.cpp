@@ -142,14 +142,21 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
       assembler_(scans,
                  [this](Scan& scan, const rs16::ScanReport& report) {
                    if (scan.points.empty()) return;
+                   // Told once the scan is whole: a packet that only came late is not lost.
+                   if (scan.missing_packets > 0)
+                     fault_log_.warn("lost packets", scan.points.back().t_s,
+                                     "lidar: scan {} lost {} MSOP packets; {} so far", scan.index,
+                                     scan.missing_packets, assembly_stats_.missing_packets);
                    if (report.short_coverage) {
                      // Registered as if whole, a part of a turn weighs too little
-                     // against the map and may slide along it.
-                     fault_log_.warn("short scan", scan.points.back().t_s,
-                                     "lidar: scan {} covers {:.0f} % of a turn (lidar.min_scan_coverage {:.0f} %): "
-                                     "skipped; {} so far",
-                                     scan.index, report.azimuth_coverage * 100.0, min_scan_coverage_ * 100.0,
-                                     assembly_stats_.scans_short_coverage);
+                     // against the map and may slide along it. The first scan
+                     // starts wherever the head was: no fault, so not warned of.
+                     if (scan.index > 0)
+                       fault_log_.warn("short scan", scan.points.back().t_s,
+                                       "lidar: scan {} covers {:.0f} % of a turn (lidar.min_scan_coverage {:.0f} %): "
+                                       "skipped; {} so far",
+                                       scan.index, report.azimuth_coverage * 100.0, min_scan_coverage_ * 100.0,
+                                       assembly_stats_.scans_short_coverage);
                      return;
                    }
                    held_.index = scan.index;
@@ -224,9 +231,8 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   if (imu_hole_s(trajectory, out.t_s, t_end_s) > params_.fuser.max_imu_gap_s &&
       predict_from_registrations(out.t_s, t_end_s)) {
     motion = &prediction_;
-    conditions.deskew = false;
+    conditions.trajectory_measured = false;
     out.imu_bridged = true;
-    out.deskew = false;
   }
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
   previous_scan_start_s_ = out.t_s;

@@ -55,6 +55,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       if (fresh && !in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
         return {S::Tracking, "registration good again"};
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
+      if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
       break;
     case S::Lost:
       if (!fresh) break;

@@ -52,7 +52,7 @@ struct HealthLimits {
 
 struct HealthTransition {
   HealthState state;
-  std::string_view reason;  // empty when the state does not change
+  std::string_view reason;  // empty when nothing changes; set when only the reason does (a stale sensor)
 };
 
 // The next state, given the current one and how long it has lasted.

@@ -92,7 +92,7 @@ struct RegistrationRecord {
   std::array<float, kMaxStages> stage_ms{};
   std::int32_t resets = 0;              // local maps given up so far (this scan started a new one when it grew)
   TrackingLoss reset_reason = TrackingLoss::None;  // of the newest reset
-  bool imu_bridged = false;             // no IMU over the scan: predicted from the registrations, not de-skewed
+  bool imu_bridged = false;             // no IMU over the scan: de-skewed with a prediction from the registrations
   bool untrusted = false;               // registered, but too far from the IMU-propagated pose: not used
 };
 

@@ -106,6 +106,14 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool
     state_ = next.state;
     state_since_steady_ns_ = now_ns;
     state_reason_ = next.reason;
+  } else if (!next.reason.empty() && next.reason != state_reason_) {  // the same state for a new reason
+    if (on_sensor_time_) {
+      logger_->warn("state {}: {} (data time {:.1f} s)", to_string(state_), next.reason,
+                    seconds(now_ns - start_steady_ns_));
+    } else {
+      logger_->warn("state {}: {}", to_string(state_), next.reason);
+    }
+    state_reason_ = next.reason;
   }
   previous_drops_for_health_ = drops;
   bad_scans_in_period_ = 0;

@@ -421,8 +421,9 @@ TEST(ImuFuser, RejectsCorrectionsItCannotPlaceAndOutOfOrderSamples) {
   fuser.add_imu(sample_at(truth, sample_time(150)));
   EXPECT_EQ(fuser.stats().samples_out_of_order, 1u);
   EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(250), identity, 0.01).pose_reset);  // newer than the IMU
+  EXPECT_EQ(fuser.stats().anchors_while_imu_silent, 1u);  // kept for an IMU gap, not applied
   EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(50), identity, 0.01).pose_reset);   // before the history
-  EXPECT_EQ(fuser.stats().corrections_outside_history, 2u);
+  EXPECT_EQ(fuser.stats().corrections_outside_history, 1u);
   const CorrectionResult result = fuser.correct_with_registered_pose(sample_time(180), identity, 0.01);
   EXPECT_TRUE(result.pose_reset);
   EXPECT_TRUE(std::isfinite(result.rewritten_after_s));
@@ -440,6 +441,36 @@ TEST(ImuFuser, BuffersStayBounded) {
   // A correction older than the 64-sample history cannot be placed.
   EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(1900), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
   EXPECT_TRUE(fuser.correct_with_registered_pose(sample_time(1990), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
+}
+
+}  // namespace
+}  // namespace tumble
+
+namespace tumble {
+namespace {
+
+TEST(ImuFuser, StartsAgainFromTheRegisteredPosesAfterAnImuGap) {
+  Truth truth;
+  ImuFuser fuser(ImuFuserParams{});
+  feed(fuser, truth, 0, 200);
+  ASSERT_TRUE(fuser.initialized());
+  // The IMU falls silent; the registration, predicting from its own poses,
+  // reports two: 1 m/s along x, turning 1 rad/s about z.
+  Eigen::Isometry3d a = Eigen::Isometry3d::Identity();
+  a.translation() = Eigen::Vector3d(1.0, 0.0, 0.0);
+  Eigen::Isometry3d b = a;
+  b.translation() = Eigen::Vector3d(1.1, 0.0, 0.0);
+  b.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  fuser.correct_with_registered_pose(sample_time(220), a, 0.01);
+  fuser.correct_with_registered_pose(sample_time(230), b, 0.01);
+  EXPECT_EQ(fuser.stats().anchors_while_imu_silent, 2u);
+  fuser.add_imu(sample_at(truth, sample_time(240)));  // back after 0.4 s
+  EXPECT_EQ(fuser.stats().reanchors, 1u);
+  const TrajectorySample& s = fuser.trajectory().back();
+  EXPECT_EQ(fuser.trajectory().size(), 1u);  // nothing integrated across the gap
+  EXPECT_NEAR(s.p_w.x(), 1.2, 1e-9);         // carried on at the registrations' velocity
+  EXPECT_NEAR(s.v_w.x(), 1.0, 1e-9);
+  EXPECT_NEAR(Eigen::AngleAxisd(s.q_wl).angle(), 0.2, 1e-9);  // and body rate
 }
 
 }  // namespace

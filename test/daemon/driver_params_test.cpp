@@ -21,5 +21,13 @@ TEST(OdometryParamsFromConfig, ReadingNormalsKeysReachTheCore) {
   EXPECT_EQ(p.reading_normals.k, 12);
 }
 
+TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
+  EXPECT_DOUBLE_EQ(scan_assembler_config(LidarConfig{}).min_scan_coverage, 0.9);
+  const DaemonConfig config = load_config("lidar:\n  min_scan_coverage: 0.5\n  split_azimuth_deg: 90\n", "test.yaml");
+  const rs16::ScanAssemblerConfig scans = scan_assembler_config(config.lidar);
+  EXPECT_DOUBLE_EQ(scans.min_scan_coverage, 0.5);
+  EXPECT_DOUBLE_EQ(scans.split_azimuth_deg, 90.0);
+}
+
 }  // namespace
 }  // namespace tumble::daemon

@@ -91,6 +91,9 @@ TEST(HealthState, DegradedTooLongIsLostUntilTheScansAreGoodAgain) {
   EXPECT_EQ(next(S::Lost, in), S::Tracking);
   in.imu_fresh = false;
   EXPECT_EQ(next(S::Lost, in), S::Lost);
+  const HealthTransition still = next_health_state(S::Degraded, 1.0, in, {});
+  EXPECT_EQ(still.state, S::Degraded);
+  EXPECT_EQ(still.reason, "no IMU data");  // the reason changes, the state does not
 }
 
 TEST(HealthState, AResetIsLostWithItsReasonThenANewMapInitialises) {

@@ -1,0 +1,90 @@
+// The registration stage's scan assembly as the daemon runs it: a scan that
+// covers too little of a turn is not registered, and each packet fault is
+// counted for status_t and named in the log.
+#include "daemon/core_stages.hpp"
+
+#include <gtest/gtest.h>
+#include <spdlog/sinks/ostream_sink.h>
+#include <spdlog/spdlog.h>
+
+#include <memory>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include "daemon/driver_params.hpp"
+#include "drivers/rs16/decoder.hpp"
+#include "test/drivers/rs16/packet_stream.hpp"
+
+namespace tumble::daemon {
+namespace {
+
+class CapturedLog {
+ public:
+  CapturedLog() : previous_(spdlog::default_logger()) {
+    auto sink = std::make_shared<spdlog::sinks::ostream_sink_st>(text_);
+    auto logger = std::make_shared<spdlog::logger>("capture", sink);
+    logger->set_pattern("%l %v");
+    spdlog::set_default_logger(logger);
+  }
+  ~CapturedLog() { spdlog::set_default_logger(previous_); }
+  std::string text() const { return text_.str(); }
+
+ private:
+  std::shared_ptr<spdlog::logger> previous_;
+  std::ostringstream text_;
+};
+
+TEST(CoreRegistrationStage, SkipsShortScansAndNamesPacketFaultsInTheLog) {
+  const CapturedLog log;
+  CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
+  rs16::Decoder decoder;
+  rs16::DecoderStats decoder_stats;
+  rs16::test::StreamSpec spec;
+  spec.start_azimuth_deg = 200.0;  // the first scan covers 160 deg
+  int held = 0;
+  PointBlock block;
+  const auto feed = [&](std::int64_t i) {
+    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
+    if (stage.add_points(block)) {
+      ++held;
+      stage.discard_held_scan();
+    }
+  };
+  std::set<std::int64_t> lost;
+  for (std::int64_t i = 150; i < 180; ++i) lost.insert(i);  // 40 % of the third revolution
+  for (std::int64_t i = 0; i < 250; ++i) {
+    if (lost.contains(i)) continue;
+    if (i == 100) {  // swapped with its neighbour
+      feed(101);
+      feed(100);
+      ++i;
+      continue;
+    }
+    feed(i);
+    if (i == 60) feed(60);  // duplicates: at once and a packet later
+    if (i == 90) feed(89);
+  }
+  // Scans: 0 (short, the start), 1 (whole), 2 (short: lost packets).
+  EXPECT_EQ(held, 1);
+  PipelineCounters counters;
+  stage.report(counters);
+  EXPECT_EQ(counters.scans_short_coverage.load(), 2);
+  EXPECT_EQ(counters.lidar_duplicate_packets.load(), 2);
+  EXPECT_EQ(counters.lidar_late_packets.load(), 1);
+  EXPECT_EQ(counters.lidar_late_packets_dropped.load(), 0);
+  EXPECT_EQ(counters.lidar_missing_packets.load(), 30);
+  const std::string text = log.text();
+  EXPECT_NE(text.find("warning lidar: duplicated MSOP packet dropped; 1 so far"), std::string::npos) << text;
+  EXPECT_NE(text.find("warning lidar: MSOP packet out of order: put into its scan; 1 so far"), std::string::npos)
+      << text;
+  EXPECT_NE(text.find("warning lidar: scan 2 lost 30 MSOP packets; 30 so far"), std::string::npos) << text;
+  EXPECT_EQ(text.find("scan 1 lost"), std::string::npos) << "the late packet was not lost:\n" << text;
+  EXPECT_NE(text.find("warning lidar: scan 2 covers 60 % of a turn (lidar.min_scan_coverage 90 %): skipped; 2 so far"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("scan 0 covers"), std::string::npos) << "the first scan is partial by nature:\n" << text;
+}
+
+}  // namespace
+}  // namespace tumble::daemon
