@@ -77,6 +77,18 @@ Eigen::Vector3d ImuFuser::unclipped_gyro(const Eigen::Vector3d& gyro_clipped_i,
   return gyro;
 }
 
+ImuFuser::HistoryEntry ImuFuser::measured_entry(const ImuSample& sample) const {
+  HistoryEntry entry;
+  entry.t_s = sample.t_s;
+  entry.accel_i = sample.accel_m_s2;
+  entry.gyro_clipped_i = sample.gyro_rad_s - gyro_bias_;
+  entry.accel_clipped = sample.accel_saturated;
+  entry.gyro_clipped = sample.gyro_saturated;
+  entry.gyro_i = any(entry.gyro_clipped) ? unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped)
+                                         : entry.gyro_clipped_i;
+  return entry;
+}
+
 void ImuFuser::add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const {
   if (!any(entry.accel_clipped)) return;
   const Eigen::Matrix3d r_wi = entry.q_wi.toRotationMatrix();
@@ -117,14 +129,7 @@ void ImuFuser::add_imu(const ImuSample& sample) {
     }
   }
 
-  HistoryEntry entry;
-  entry.t_s = sample.t_s;
-  entry.accel_i = sample.accel_m_s2;
-  entry.gyro_clipped_i = sample.gyro_rad_s - gyro_bias_;
-  entry.accel_clipped = sample.accel_saturated;
-  entry.gyro_clipped = sample.gyro_saturated;
-  entry.gyro_i = any(entry.gyro_clipped) ? unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped)
-                                         : entry.gyro_clipped_i;
+  HistoryEntry entry = measured_entry(sample);
   if (entry.gyro_i != entry.gyro_clipped_i) ++stats_.gyro_samples_from_lidar;
 
   if (params_.attitude_from_device && sample.has_orientation) {
@@ -165,14 +170,7 @@ void ImuFuser::reanchor(const ImuSample& sample) {
   madgwick_.set_orientation(q_wi);
   if (device_alignment_ && sample.has_orientation) device_alignment_ = q_wi * sample.orientation.conjugate();
 
-  HistoryEntry entry;
-  entry.t_s = sample.t_s;
-  entry.accel_i = sample.accel_m_s2;
-  entry.gyro_clipped_i = sample.gyro_rad_s - gyro_bias_;
-  entry.accel_clipped = sample.accel_saturated;
-  entry.gyro_clipped = sample.gyro_saturated;
-  entry.gyro_i = any(entry.gyro_clipped) ? unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped)
-                                         : entry.gyro_clipped_i;
+  HistoryEntry entry = measured_entry(sample);
   entry.q_wi = q_wi;
   entry.accel_w = gravity_free_accel(q_wi, entry.accel_i);
   entry.state.v_w = v_wi;

@@ -203,6 +203,8 @@ class ImuFuser {
   Eigen::Vector3d unclipped_gyro(const Eigen::Vector3d& gyro_clipped_i, const std::array<bool, 3>& clipped) const;
   void integrate(KinematicState& state, const Eigen::Vector3d& a0, const Eigen::Vector3d& a1, double dt_s) const;
   void add_clip_noise(KinematicState& state, const HistoryEntry& entry, double dt_s) const;
+  // A sample's readings as a history entry: bias removed, clipped gyro axes estimated.
+  HistoryEntry measured_entry(const ImuSample& sample) const;
   // Index of the last history entry with t < t_s (requires t_s > the oldest).
   std::size_t entry_before(double t_s) const;
   KinematicState state_at(double t_s) const;

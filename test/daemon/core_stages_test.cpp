@@ -4,7 +4,6 @@
 #include "daemon/core_stages.hpp"
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 
 #include <memory>
@@ -14,26 +13,11 @@
 
 #include "daemon/driver_params.hpp"
 #include "drivers/rs16/decoder.hpp"
+#include "test/daemon/captured_log.hpp"
 #include "test/drivers/rs16/packet_stream.hpp"
 
 namespace tumble::daemon {
 namespace {
-
-class CapturedLog {
- public:
-  CapturedLog() : previous_(spdlog::default_logger()) {
-    auto sink = std::make_shared<spdlog::sinks::ostream_sink_st>(text_);
-    auto logger = std::make_shared<spdlog::logger>("capture", sink);
-    logger->set_pattern("%l %v");
-    spdlog::set_default_logger(logger);
-  }
-  ~CapturedLog() { spdlog::set_default_logger(previous_); }
-  std::string text() const { return text_.str(); }
-
- private:
-  std::shared_ptr<spdlog::logger> previous_;
-  std::ostringstream text_;
-};
 
 TEST(CoreRegistrationStage, SkipsShortScansAndNamesPacketFaultsInTheLog) {
   const CapturedLog log;

@@ -4,7 +4,6 @@
 #include "daemon/lidar_parts.hpp"
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ostream_sink.h>
 #include <spdlog/spdlog.h>
 
 #include <memory>
@@ -12,25 +11,10 @@
 #include <string>
 
 #include "drivers/rs16/msop_encode.hpp"
+#include "test/daemon/captured_log.hpp"
 
 namespace tumble::daemon {
 namespace {
-
-class CapturedLog {
- public:
-  CapturedLog() : previous_(spdlog::default_logger()) {
-    auto sink = std::make_shared<spdlog::sinks::ostream_sink_st>(text_);
-    auto logger = std::make_shared<spdlog::logger>("capture", sink);
-    logger->set_pattern("%l %v");
-    spdlog::set_default_logger(logger);
-  }
-  ~CapturedLog() { spdlog::set_default_logger(previous_); }
-  std::string text() const { return text_.str(); }
-
- private:
-  std::shared_ptr<spdlog::logger> previous_;
-  std::ostringstream text_;
-};
 
 std::array<std::uint8_t, 1248> msop_packet() {
   rs16::MsopPacketData data;
