@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "test/core/synthetic_room.hpp"
 #include "test/daemon/process.hpp"
 #include "test/temp_dir.hpp"
 #include "tools/eval/run_score.hpp"
@@ -40,11 +41,16 @@ class ReplayFaults : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     dir_ = new test::TempDir("replay-faults");
+    if (test::kCoarseTests) return;
     const test::ProcessResult sim = test::run_process(
         {kBin + "/tools/sim/tumble-sim", "run", "--out", (dir_->path() / "run").string(), "--duration", "7"});
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
   }
   static void TearDownTestSuite() { delete dir_; }
+  void SetUp() override {
+    // Debug (sanitizer) builds simulate and replay tens of times slower: over ten minutes for this run.
+    if (test::kCoarseTests) GTEST_SKIP() << "simulating and replaying a run takes many minutes in unoptimised builds";
+  }
 
   struct Replay {
     std::vector<std::string> states;
