@@ -1,10 +1,9 @@
 #include "tools/eval/box_plot.hpp"
 
 #include <cstdio>
-#include <fstream>
 #include <optional>
 
-#include "tools/eval/child_processes.hpp"
+#include "tools/eval/gnuplot.hpp"
 #include "tools/eval/tumbled_job.hpp"
 
 namespace tumble::eval {
@@ -85,21 +84,7 @@ std::string box_plot_script(const std::vector<CellSummary>& cells, const std::fi
 
 std::string draw_box_plot(const std::vector<CellSummary>& cells, const std::filesystem::path& script_path,
                           const std::filesystem::path& png_path) {
-  {
-    std::ofstream out(script_path);
-    out << box_plot_script(cells, png_path);
-    if (!out) return script_path.string() + ": cannot write";
-  }
-  std::filesystem::path log_path = script_path;
-  log_path += ".log";
-  ChildCommand command;
-  command.argv = {"gnuplot", script_path.string()};
-  command.log_path = log_path;
-  command.timeout_s = 120.0;
-  const ChildOutcome outcome = run_child(command);
-  if (!outcome.succeeded())
-    return "gnuplot: " + outcome.describe() + " (see " + log_path.string() + "; Debian package gnuplot-nox)";
-  return "";
+  return run_gnuplot(box_plot_script(cells, png_path), script_path);
 }
 
 }  // namespace tumble::eval

@@ -3,7 +3,7 @@
 #include <fstream>
 #include <numbers>
 
-#include "tools/eval/child_processes.hpp"
+#include "tools/eval/gnuplot.hpp"
 #include "tools/eval/imu_attitude.hpp"
 
 namespace tumble::eval {
@@ -110,21 +110,7 @@ std::string draw_roll_pitch(const ImuEvaluation& e, const std::filesystem::path&
               " with points pt 7 ps 0.3 lc rgb 'black' title 'still accelerometer'\n";
   }
   script += "unset multiplot\n";
-  {
-    std::ofstream out(script_path);
-    out << script;
-    if (!out) return script_path.string() + ": cannot write";
-  }
-  std::filesystem::path log_path = script_path;
-  log_path += ".log";
-  ChildCommand command;
-  command.argv = {"gnuplot", script_path.string()};
-  command.log_path = log_path;
-  command.timeout_s = 120.0;
-  const ChildOutcome outcome = run_child(command);
-  if (!outcome.succeeded())
-    return "gnuplot: " + outcome.describe() + " (see " + log_path.string() + "; Debian package gnuplot-nox)";
-  return "";
+  return run_gnuplot(script, script_path);
 }
 
 }  // namespace tumble::eval
