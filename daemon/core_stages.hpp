@@ -60,6 +60,11 @@ class CoreFuserStage : public FuserStage {
 //   stage gives up its local map (a reset, counted, with its reason); the next
 //   scan starts a new one at the fuser's pose, which continues the last one
 //   published.
+// - Gyro clipped about the lidar's spin axis during the scan: the scan is
+//   registered as usual (the fuser takes that rate from the registrations,
+//   core/imu_fuser.hpp 6), but flagged `spin_rate_unmeasured`, and the
+//   health machine reports degraded: that rotation is the registration's
+//   alone, and it hardly observes it.
 
 class CoreRegistrationStage : public RegistrationStage {
  public:

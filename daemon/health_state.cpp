@@ -20,6 +20,9 @@ std::string_view to_string(HealthState state) {
 
 namespace {
 
+constexpr std::string_view kSpinRateUnmeasured =
+    "gyro clipped about the lidar's spin axis: that rotation is the registration's alone";
+
 std::string_view stale_sensor(const HealthInputs& in) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
   if (!in.imu_fresh) return "no IMU data";
@@ -48,6 +51,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       break;
     case S::Tracking:
       if (!fresh) return {S::Degraded, stale};
+      if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
       if (in.bad_scans_in_period > 0) return {S::Degraded, "poor scan registration"};
       if (in.data_dropped) return {S::Degraded, "data dropped"};
       break;
@@ -56,6 +60,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
         return {S::Tracking, "registration good again"};
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
+      if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
       break;
     case S::Lost:
       if (!fresh) break;

@@ -19,7 +19,9 @@
 // (a new local map continuing the last pose, core_stages.hpp), and a map that
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
-// converged, inlier ratio >= min_inlier_ratio, degeneracy >= min_degeneracy.
+// converged, inlier ratio >= min_inlier_ratio, degeneracy >= min_degeneracy,
+// and the gyro not clipped about the lidar's spin axis (a bad scan for that
+// reason is reported as such).
 // "Data dropped": a ring dropped items or a scan was discarded in the period.
 #pragma once
 
@@ -38,6 +40,7 @@ struct HealthInputs {
   bool lidar_fresh = false;
   bool fuser_initialised = false;
   int bad_scans_in_period = 0;
+  int spin_rate_unmeasured_scans_in_period = 0;  // gyro clipped about the lidar's spin axis (not good scans either)
   int consecutive_good_scans = 0;  // ending with the newest scan
   bool data_dropped = false;
   int resets_in_period = 0;          // local maps given up

@@ -94,6 +94,9 @@ struct RegistrationRecord {
   TrackingLoss reset_reason = TrackingLoss::None;  // of the newest reset
   bool imu_bridged = false;             // no IMU over the scan: de-skewed with a prediction from the registrations
   bool untrusted = false;               // registered, but too far from the IMU-propagated pose: not used
+  // The gyro was clipped about the lidar's spin axis during the scan: that rate
+  // came from the registrations, which hardly observe it (core_stages.hpp).
+  bool spin_rate_unmeasured = false;
 };
 
 // The sensors' own time, as the io thread sees the replayed records: at each

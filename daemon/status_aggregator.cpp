@@ -58,7 +58,10 @@ void StatusAggregator::drain_scan_reports(std::uint64_t until) {
       newest_reset_reason_ = r.reset_reason;
     }
     if (r.map_initialised) new_map_at_resets_ = r.resets;
-    if (is_good(r)) {
+    if (r.spin_rate_unmeasured) {
+      consecutive_good_scans_ = 0;
+      ++spin_rate_unmeasured_scans_in_period_;
+    } else if (is_good(r)) {
       ++consecutive_good_scans_;
     } else {
       consecutive_good_scans_ = 0;
@@ -84,6 +87,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool
   in.lidar_fresh = lidar_fresh;
   in.fuser_initialised = fuser_initialised;
   in.bad_scans_in_period = bad_scans_in_period_;
+  in.spin_rate_unmeasured_scans_in_period = spin_rate_unmeasured_scans_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
   in.data_dropped = drops != previous_drops_for_health_;
   in.resets_in_period = resets_in_period_;
@@ -117,6 +121,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool
   }
   previous_drops_for_health_ = drops;
   bad_scans_in_period_ = 0;
+  spin_rate_unmeasured_scans_in_period_ = 0;
   resets_in_period_ = 0;
 }
 
@@ -186,6 +191,7 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.state_reason = state_reason_;
   out.scans_imu_bridged = load(c.scans_imu_bridged);
   out.scans_untrusted = load(c.scans_untrusted);
+  out.scans_spin_rate_unmeasured = load(c.scans_spin_rate_unmeasured);
 
   out.num_rings = static_cast<std::int16_t>(rings_.size());
   out.ring_name.resize(rings_.size());

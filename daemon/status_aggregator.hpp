@@ -88,6 +88,7 @@ class StatusAggregator {
   PeriodStats<kWindow> inlier_ratio_;
   PeriodStats<kWindow> degeneracy_;
   int bad_scans_in_period_ = 0;
+  int spin_rate_unmeasured_scans_in_period_ = 0;
   int consecutive_good_scans_ = 0;
   bool any_scan_reported_ = false;
   int resets_in_period_ = 0;

@@ -70,5 +70,37 @@ TEST(CoreRegistrationStage, SkipsShortScansAndNamesPacketFaultsInTheLog) {
   EXPECT_EQ(text.find("scan 0 covers"), std::string::npos) << "the first scan is partial by nature:\n" << text;
 }
 
+// A still trajectory over the scan, the gyro clipped about lidar axes
+// `clipped_axes` (bits) at one sample in its middle.
+std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span, std::uint8_t clipped_axes) {
+  std::vector<TrajectoryRecord> trajectory;
+  for (double t = span.start_s - 0.05; t < span.end_s + 0.05; t += 0.01) {
+    TrajectoryRecord r;
+    r.t_s = t;
+    trajectory.push_back(r);
+  }
+  trajectory[trajectory.size() / 2].gyro_saturated_axes = clipped_axes;
+  return trajectory;
+}
+
+TEST(CoreRegistrationStage, FlagsScansWithTheGyroClippedAboutTheSpinAxis) {
+  CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
+  rs16::Decoder decoder;
+  rs16::DecoderStats decoder_stats;
+  const rs16::test::StreamSpec spec;
+  PointBlock block;
+  RegistrationRecord out;
+  std::vector<bool> flagged;
+  for (std::int64_t i = 0; i < 400 && flagged.size() < 3; ++i) {
+    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
+    if (!stage.add_points(block)) continue;
+    // Clipped about lidar x, then z (the RS-16 spins about z), then x and z.
+    const std::uint8_t axes = flagged.empty() ? 0b001 : flagged.size() == 1 ? 0b100 : 0b101;
+    stage.register_held_scan(still_trajectory(stage.held_scan_span(), axes), out, nullptr);
+    flagged.push_back(out.spin_rate_unmeasured);
+  }
+  EXPECT_EQ(flagged, (std::vector<bool>{false, true, true}));
+}
+
 }  // namespace
 }  // namespace tumble::daemon

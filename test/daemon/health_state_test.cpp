@@ -69,6 +69,23 @@ TEST(HealthState, TrackingDegradesOnStaleSensorsBadScansOrDrops) {
   EXPECT_EQ(next(S::Tracking, in), S::Degraded);
 }
 
+TEST(HealthState, AGyroClippedAboutTheSpinAxisDegradesWithThatReason) {
+  HealthInputs in = healthy();
+  in.spin_rate_unmeasured_scans_in_period = 1;
+  in.bad_scans_in_period = 1;  // the more specific reason wins
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_EQ(t.reason, "gyro clipped about the lidar's spin axis: that rotation is the registration's alone");
+  in.bad_scans_in_period = 0;
+  in.consecutive_good_scans = 0;
+  HealthTransition still = next_health_state(S::Degraded, 1.0, in, {});
+  EXPECT_EQ(still.state, S::Degraded);
+  EXPECT_EQ(still.reason, t.reason);
+  in.spin_rate_unmeasured_scans_in_period = 0;
+  in.consecutive_good_scans = 5;
+  EXPECT_EQ(next(S::Degraded, in), S::Tracking);
+}
+
 TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 4;

@@ -233,6 +233,41 @@ TEST_F(StatusAggregatorTest, OnSensorTimeTheTicksDecideNotTheClocks) {
   EXPECT_NE(log_.str().find("warning state tracking -> degraded: no IMU data"), std::string::npos) << log_.str();
 }
 
+TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted) {
+  const auto scan = [this](bool spin_rate_unmeasured) {
+    RegistrationRecord r;
+    r.converged = true;
+    r.registered = true;
+    r.inlier_ratio = 0.6f;
+    r.degeneracy = 0.5f;
+    r.spin_rate_unmeasured = spin_rate_unmeasured;
+    reports_.push(r);
+  };
+  double t = 10.0;
+  const auto evaluate = [&] {
+    t += 0.1;
+    aggregator_.evaluate(SensorTimeTick{t, t - 0.01, t - 0.01, 0, reports_.pushed()});
+  };
+  scan(false);
+  evaluate();
+  evaluate();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(true);  // converged, full inliers: good by every other test
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: gyro clipped about the lidar's spin axis"), std::string::npos)
+      << log_.str();
+  for (int i = 0; i < 4; ++i) scan(false);
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);  // 4 good scans: one short of recovering
+  scan(false);
+  evaluate();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.scans_spin_rate_unmeasured = 1;
+  aggregator_.publish(0, 0, status_);
+  EXPECT_EQ(status_.scans_spin_rate_unmeasured, 1);
+}
+
 TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
     RegistrationRecord r;
