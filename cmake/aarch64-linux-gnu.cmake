@@ -29,5 +29,11 @@ set(PKG_CONFIG_EXECUTABLE aarch64-linux-gnu-pkg-config CACHE FILEPATH "")
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 
 # ctest, gtest_discover_tests and add_test run arm64 binaries through this.
-# -L: the arm64 dynamic loader and libc of libc6-arm64-cross.
-set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /usr/aarch64-linux-gnu)
+# -L /: the arm64 dynamic loader of libc6:arm64 (/lib/ld-linux-aarch64.so.1),
+# the same glibc build as the libc.so.6 that every :arm64 library's search
+# path finds in /lib/aarch64-linux-gnu. Not -L /usr/aarch64-linux-gnu: its
+# loader is libc6-arm64-cross's, another build (2.36-8cross1 beside
+# 2.36-9+deb12u14), and a loader and a libc from different builds disagree on
+# their private data: the first pthread_create walked its stack cache list
+# from the wrong address and looped for ever (README, On arm64).
+set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /)
