@@ -42,7 +42,8 @@ case "$arm64" in
   *) arm64_tumbled=$arm64; [ -d "$arm64" ] && arm64_tumbled=$arm64/daemon/tumbled ;;
 esac
 [ -x "$arm64_tumbled" ] || fail "no arm64 tumbled at $arm64_tumbled"
-file -L "$arm64_tumbled" | grep -q 'ARM aarch64' || fail "$arm64_tumbled is not an arm64 program"
+# ELF e_machine (offset 18, little-endian) 0xb7 = EM_AARCH64.
+[ "$(od -An -tx1 -j18 -N2 "$arm64_tumbled" | tr -d ' ')" = b700 ] || fail "$arm64_tumbled is not an arm64 program"
 
 if [ ! -f "$run/manifest.yaml" ] || [ "$scenario" -nt "$run/manifest.yaml" ] || [ "$sim" -nt "$run/manifest.yaml" ]; then
   log "generating the default run into $run"
