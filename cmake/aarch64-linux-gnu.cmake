@@ -12,7 +12,15 @@ set(CMAKE_CXX_COMPILER aarch64-linux-gnu-g++)
 set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
 # GCC notes that passing std::pair changed ABI in GCC 10.1; everything here is
 # built by one GCC, so the note is noise.
-set(CMAKE_CXX_FLAGS_INIT "-Wno-psabi")
+# -ffp-contract=off: GCC fuses a*b+c into one FMA instruction by default
+# (-ffp-contract=fast, also under -std=c++20), rounding once where amd64
+# rounds twice (baseline x86-64 has no FMA, so its code is the same with or
+# without the flag). Fused, the arm64 tumbled's trajectory of the default run
+# parts from the amd64 one after 3.2 s and is up to 17 cm off, and one
+# expression fused differently in two places broke
+# Icp.ReusingNeighboursGivesTheSameMatchesAsSearchingEveryIteration. Unfused,
+# both architectures give bit-identical trajectories (README, On arm64).
+set(CMAKE_CXX_FLAGS_INIT "-Wno-psabi -ffp-contract=off")
 
 set(TUMBLE_ARM64_DEPS "" CACHE PATH "Unpacked arm64 packages that cannot be co-installed with amd64")
 # Toolchain files are read again for each try_compile: pass the directory on.
@@ -29,5 +37,11 @@ set(PKG_CONFIG_EXECUTABLE aarch64-linux-gnu-pkg-config CACHE FILEPATH "")
 set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 
 # ctest, gtest_discover_tests and add_test run arm64 binaries through this.
-# -L: the arm64 dynamic loader and libc of libc6-arm64-cross.
-set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /usr/aarch64-linux-gnu)
+# -L /: the arm64 dynamic loader of libc6:arm64 (/lib/ld-linux-aarch64.so.1),
+# the same glibc build as the libc.so.6 that every :arm64 library's search
+# path finds in /lib/aarch64-linux-gnu. Not -L /usr/aarch64-linux-gnu: its
+# loader is libc6-arm64-cross's, another build (2.36-8cross1 beside
+# 2.36-9+deb12u14), and a loader and a libc from different builds disagree on
+# their private data: the first pthread_create walked its stack cache list
+# from the wrong address and looped for ever (README, On arm64).
+set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /)
