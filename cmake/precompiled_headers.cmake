@@ -15,7 +15,7 @@ function(tumble_precompile_headers target)
   target_precompile_headers(${target} PRIVATE ${_headers})
   target_link_libraries(${target} PRIVATE Eigen3::Eigen)
   # Lets ccache reuse compiles against the precompiled header (clang stamps it
-  # with its build time otherwise); see README, "Build trees".
+  # with its build time otherwise); see README (ccache sloppiness).
   if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
     target_compile_options(${target} PRIVATE "SHELL:-Xclang -fno-pch-timestamp")
   endif()

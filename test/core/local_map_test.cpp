@@ -7,20 +7,13 @@
 #include <limits>
 #include <random>
 
+#include "test/core/cloud_of.hpp"
 #include "test/core/synthetic_room.hpp"
 
 namespace tumble {
 namespace {
 
-PointCloud cloud_of(const std::vector<Eigen::Vector3d>& points, double sigma_s_m = 0) {
-  PointCloud c;
-  c.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    c.points[i] = points[i];
-    c.sigma_s_m[i] = sigma_s_m;
-  }
-  return c;
-}
+using test::cloud_of;
 
 TEST(LocalMap, NewPointNeedsMinimumDistanceToEveryMapPoint) {
   LocalMap map(LocalMapParams{.min_point_distance_m = 0.05});

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "core/point_grid.hpp"
+#include "test/core/cloud_of.hpp"
 #include "test/core/synthetic_room.hpp"
 
 namespace tumble {
@@ -21,12 +22,7 @@ NormalParams not_a_scan(int k, double max_radius_m = 1.0) {
   return p;
 }
 
-PointCloud cloud_of(const std::vector<Eigen::Vector3d>& points) {
-  PointCloud c;
-  c.resize(points.size());
-  for (std::size_t i = 0; i < points.size(); ++i) c.points[i] = points[i];
-  return c;
-}
+using test::cloud_of;
 
 TEST(NormalEstimator, PlaneNormalsFaceTheSensorWithZeroCurvature) {
   // A tilted plane far from the origin: the fit must not lose precision there.

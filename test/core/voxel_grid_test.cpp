@@ -9,7 +9,7 @@
 namespace tumble {
 namespace {
 
-PointCloud cloud_of(const std::vector<Eigen::Vector3d>& points) {
+PointCloud numbered_cloud_of(const std::vector<Eigen::Vector3d>& points) {
   PointCloud c;
   c.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -23,7 +23,7 @@ PointCloud cloud_of(const std::vector<Eigen::Vector3d>& points) {
 
 TEST(VoxelDownsampler, KeepsThePointNearestTheCellCentreWithItsAttributes) {
   // Cell [0, 0.1)^3 has centre (0.05, 0.05, 0.05); point 2 is nearest it.
-  const PointCloud in = cloud_of({{0.01, 0.01, 0.01}, {0.09, 0.02, 0.05}, {0.06, 0.04, 0.05}, {0.099, 0.099, 0.099}});
+  const PointCloud in = numbered_cloud_of({{0.01, 0.01, 0.01}, {0.09, 0.02, 0.05}, {0.06, 0.04, 0.05}, {0.099, 0.099, 0.099}});
   VoxelDownsampler grid(0.1);
   PointCloud out;
   grid.apply(in, out);
@@ -36,7 +36,7 @@ TEST(VoxelDownsampler, KeepsThePointNearestTheCellCentreWithItsAttributes) {
 
 TEST(VoxelDownsampler, OnePointPerOccupiedCellInFirstSeenOrder) {
   // Negative coordinates must fall in their own cells (floor, not truncation).
-  const PointCloud in = cloud_of({{0.5, 0.5, 0.5}, {-0.01, 0.02, 0.03}, {0.52, 0.55, 0.51}, {0.01, 0.02, 0.03}});
+  const PointCloud in = numbered_cloud_of({{0.5, 0.5, 0.5}, {-0.01, 0.02, 0.03}, {0.52, 0.55, 0.51}, {0.01, 0.02, 0.03}});
   VoxelDownsampler grid(0.1);
   PointCloud out;
   grid.apply(in, out);
@@ -51,11 +51,11 @@ TEST(VoxelDownsampler, DeterministicAndReusable) {
   std::uniform_real_distribution<double> u(-5, 5);
   std::vector<Eigen::Vector3d> pts(test::full_or_coarse(5000, 800));
   for (auto& p : pts) p = Eigen::Vector3d(u(rng), u(rng), u(rng));
-  const PointCloud in = cloud_of(pts);
+  const PointCloud in = numbered_cloud_of(pts);
   VoxelDownsampler grid(0.5);
   PointCloud a, b;
   grid.apply(in, a);
-  grid.apply(cloud_of({{0, 0, 0}}), b);  // a different cloud in between
+  grid.apply(numbered_cloud_of({{0, 0, 0}}), b);  // a different cloud in between
   EXPECT_EQ(b.size(), 1u);
   grid.apply(in, b);
   ASSERT_EQ(a.size(), b.size());

@@ -17,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kSource = TUMBLE_SOURCE_DIR;
-const std::string kTumbled = std::string(TUMBLE_BINARY_DIR) + "/daemon/tumbled";
+const std::string kTumbledBinary = std::string(TUMBLE_BINARY_DIR) + "/daemon/tumbled";
 
 std::string read_file(const fs::path& path) {
   std::ifstream in(path);
@@ -53,7 +53,7 @@ TEST(SystemdUnit, VerifiesCleanly) {
   // verify checks that ExecStart's binary exists: point it at the one just built.
   const TempDir dir;
   const std::string unit = std::regex_replace(read_file(kSource / "systemd/tumbled.service"),
-                                              std::regex("ExecStart=/usr/bin/tumbled"), "ExecStart=" + kTumbled);
+                                              std::regex("ExecStart=/usr/bin/tumbled"), "ExecStart=" + kTumbledBinary);
   const fs::path copy = dir.path() / "tumbled.service";
   std::ofstream(copy) << unit;
   const test::ProcessResult r = test::run_process({analyze, "verify", copy.string()});

@@ -8,7 +8,7 @@
 namespace tumble::mti {
 namespace {
 
-constexpr double kHost0_s = 1.7e9;
+constexpr double kHostStart_s = 1.7e9;
 
 // Serial and scheduling delay: never below the floor, mostly small, sometimes
 // several ms. Built from raw mt19937 output so every platform draws the same.
@@ -26,10 +26,10 @@ class Delays {
 TEST(TimeMapper, ConstantLatencyGivesTheFirstOffset) {
   TimeMapper m;
   EXPECT_FALSE(m.ready());
-  for (int i = 0; i < 500; ++i) m.observe(100.0 + i * 0.01, kHost0_s + i * 0.01 + 0.003);
+  for (int i = 0; i < 500; ++i) m.observe(100.0 + i * 0.01, kHostStart_s + i * 0.01 + 0.003);
   ASSERT_TRUE(m.ready());
-  EXPECT_NEAR(m.host_time(103.0), kHost0_s + 3.003, 1e-6);
-  EXPECT_NEAR(m.offset_s(), kHost0_s + 0.003 - 100.0, 1e-6);
+  EXPECT_NEAR(m.host_time(103.0), kHostStart_s + 3.003, 1e-6);
+  EXPECT_NEAR(m.offset_s(), kHostStart_s + 0.003 - 100.0, 1e-6);
   EXPECT_EQ(m.drift(), 0.0);
   EXPECT_NEAR(m.jitter_s(), 0.0, 1e-6);
 }
@@ -41,7 +41,7 @@ TEST(TimeMapper, FollowsTheLowerEnvelopeAndItsDrift) {
   double worst_after_warmup_s = 0;
   for (int i = 0; i < 100 * 120; ++i) {
     const double sensor_s = 5000.0 + i * 0.01;
-    const double floor_s = kHost0_s + (sensor_s - 5000.0) * (1 + drift) + 0.002;
+    const double floor_s = kHostStart_s + (sensor_s - 5000.0) * (1 + drift) + 0.002;
     m.observe(sensor_s, floor_s + delays.next_s() - 0.002);
     if (i > 100 * 30) worst_after_warmup_s = std::max(worst_after_warmup_s, std::abs(m.host_time(sensor_s) - floor_s));
   }
@@ -52,9 +52,9 @@ TEST(TimeMapper, FollowsTheLowerEnvelopeAndItsDrift) {
 
 TEST(TimeMapper, NoDriftBeforeTheSpanCanShowIt) {
   TimeMapper m;
-  for (int i = 0; i < 500; ++i) m.observe(i * 0.01, kHost0_s + i * 0.01 * (1 + 100e-6));
+  for (int i = 0; i < 500; ++i) m.observe(i * 0.01, kHostStart_s + i * 0.01 * (1 + 100e-6));
   EXPECT_EQ(m.drift(), 0.0);  // 5 s < min_drift_span_s
-  for (int i = 500; i < 2000; ++i) m.observe(i * 0.01, kHost0_s + i * 0.01 * (1 + 100e-6));
+  for (int i = 500; i < 2000; ++i) m.observe(i * 0.01, kHostStart_s + i * 0.01 * (1 + 100e-6));
   EXPECT_NEAR(m.drift(), 100e-6, 1e-7);
 }
 
@@ -62,19 +62,19 @@ TEST(TimeMapper, AnImpossibleDriftIsClamped) {
   TimeMapperOptions options;
   options.max_abs_drift = 50e-6;
   TimeMapper m(options);
-  for (int i = 0; i < 3000; ++i) m.observe(i * 0.01, kHost0_s + i * 0.01 * (1 + 1e-3));
+  for (int i = 0; i < 3000; ++i) m.observe(i * 0.01, kHostStart_s + i * 0.01 * (1 + 1e-3));
   EXPECT_EQ(m.drift(), 50e-6);
   // Clamped, the line still stays under every observation.
-  EXPECT_LE(m.host_time(29.99), kHost0_s + 29.99 * (1 + 1e-3) + 1e-9);
+  EXPECT_LE(m.host_time(29.99), kHostStart_s + 29.99 * (1 + 1e-3) + 1e-9);
 }
 
 TEST(TimeMapper, ResetStartsAfresh) {
   TimeMapper m;
-  for (int i = 0; i < 100; ++i) m.observe(i * 0.01, kHost0_s + i * 0.01);
+  for (int i = 0; i < 100; ++i) m.observe(i * 0.01, kHostStart_s + i * 0.01);
   m.reset();
   EXPECT_FALSE(m.ready());
-  m.observe(7.0, kHost0_s + 100.0);
-  EXPECT_NEAR(m.host_time(8.0), kHost0_s + 101.0, 1e-6);
+  m.observe(7.0, kHostStart_s + 100.0);
+  EXPECT_NEAR(m.host_time(8.0), kHostStart_s + 101.0, 1e-6);
 }
 
 TEST(TimeMapper, BadOptionsAreRefused) {

@@ -14,7 +14,7 @@ namespace {
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr std::int64_t kT0Ns = 1'704'067'200'000'000'000;
 // Epoch seconds in a double resolve 0.24 us.
-constexpr double kTimeTolerance_s = 5e-7;
+constexpr double kDecodeTimeTolerance_s = 5e-7;
 
 struct Decoded {
   MsopHeader header;
@@ -73,7 +73,7 @@ TEST(Rs16MsopDecode, PointTimesFollowTheFiringModel) {
     const auto points = d.packet.block_points(b);
     ASSERT_EQ(points.size(), 32u);
     for (int c = 0; c < 32; ++c) {
-      EXPECT_NEAR(points[c].t_s - t0, 111e-6 * b + 55.5e-6 * (c / 16) + 2.8e-6 * (c % 16), kTimeTolerance_s);
+      EXPECT_NEAR(points[c].t_s - t0, 111e-6 * b + 55.5e-6 * (c / 16) + 2.8e-6 * (c % 16), kDecodeTimeTolerance_s);
       EXPECT_EQ(points[c].laser, c % 16);
       EXPECT_EQ(points[c].intensity, c);
       EXPECT_EQ(points[c].return_index, 0);
@@ -176,7 +176,7 @@ TEST(Rs16MsopDecode, DualReturnPairsBothReturnsOfEachFiring) {
   for (int i = 0; i < 32; ++i) {
     EXPECT_EQ(block[i].laser, i / 2);
     EXPECT_EQ(block[i].return_index, i % 2);
-    EXPECT_NEAR(block[i].t_s - t0, 55.5e-6 * 1 + 2.8e-6 * (i / 2), kTimeTolerance_s);
+    EXPECT_NEAR(block[i].t_s - t0, 55.5e-6 * 1 + 2.8e-6 * (i / 2), kDecodeTimeTolerance_s);
     EXPECT_NEAR(block[i].azimuth_deg, 0.2 + 0.2 * 2.8 * (i / 2) / 55.5, 2e-4);
   }
   const auto first = d.packet.block_points(0);

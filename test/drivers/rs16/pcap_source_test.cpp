@@ -19,7 +19,7 @@ namespace {
 
 constexpr std::uint32_t kLidarIp = 0xC0A801C8;
 constexpr std::uint32_t kHostIp = 0xC0A80166;
-constexpr std::int64_t kT0Ns = 1'704'067'200'000'000'000;
+constexpr std::int64_t kCaptureStartNs = 1'704'067'200'000'000'000;
 
 class TempFile {
  public:
@@ -68,10 +68,10 @@ TEST(Rs16PcapSource, ReadsEveryLinkTypeTcpdumpUses) {
     {
       pcap::Writer w(file.path(), link);
       for (int i = 0; i < 3; ++i)
-        w.write(kT0Ns + i * 1'332'000,
+        w.write(kCaptureStartNs + i * 1'332'000,
                 relink(link, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(i))));
       const auto difop = encode_difop(DifopData{});
-      w.write(kT0Ns + 5'000'000, relink(link, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 7788, 7788, difop)));
+      w.write(kCaptureStartNs + 5'000'000, relink(link, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 7788, 7788, difop)));
     }
     PcapSource source(file.path(), {});
     for (int i = 0; i < 3; ++i) {
@@ -79,7 +79,7 @@ TEST(Rs16PcapSource, ReadsEveryLinkTypeTcpdumpUses) {
       ASSERT_TRUE(d) << "link type " << link;
       EXPECT_EQ(d->kind, PacketKind::Msop);
       EXPECT_EQ(d->source_ip, kLidarIp);
-      EXPECT_NEAR(d->arrival_s, (kT0Ns + i * 1'332'000) * 1e-9, 1e-6);
+      EXPECT_NEAR(d->arrival_s, (kCaptureStartNs + i * 1'332'000) * 1e-9, 1e-6);
       EXPECT_EQ(std::vector<std::uint8_t>(d->payload.begin(), d->payload.end()), msop_payload(i));
     }
     const auto difop = source.next();
@@ -106,7 +106,7 @@ TEST(Rs16PcapSource, ReadsPcapng) {
   u32(0x0A0D0D0A), u32(28), u32(0x1A2B3C4D), u16(1), u16(0), u32(0xFFFFFFFF), u32(0xFFFFFFFF), u32(28);  // SHB
   u32(1), u32(20), u16(1), u16(0), u32(65535), u32(20);                                                    // IDB
   const std::uint32_t padded = static_cast<std::uint32_t>((frame.size() + 3) / 4 * 4);
-  const std::uint64_t t_us = static_cast<std::uint64_t>(kT0Ns / 1000);
+  const std::uint64_t t_us = static_cast<std::uint64_t>(kCaptureStartNs / 1000);
   u32(6), u32(32 + padded), u32(0), u32(static_cast<std::uint32_t>(t_us >> 32)),
       u32(static_cast<std::uint32_t>(t_us)), u32(static_cast<std::uint32_t>(frame.size())),
       u32(static_cast<std::uint32_t>(frame.size()));
@@ -120,7 +120,7 @@ TEST(Rs16PcapSource, ReadsPcapng) {
   const auto d = source.next();
   ASSERT_TRUE(d);
   EXPECT_EQ(d->kind, PacketKind::Msop);
-  EXPECT_NEAR(d->arrival_s, kT0Ns * 1e-9, 1e-6);
+  EXPECT_NEAR(d->arrival_s, kCaptureStartNs * 1e-9, 1e-6);
   EXPECT_EQ(d->payload.size(), 1248u);
 }
 
@@ -129,17 +129,17 @@ TEST(Rs16PcapSource, OtherTrafficIsCountedAndSkipped) {
   {
     pcap::Writer w(file.path(), pcap::kLinkEthernet);
     const std::vector<std::uint8_t> dns(40, 0x11);
-    w.write(kT0Ns, pcap::make_udp_ethernet_frame(0x0A000001, 0x0A000002, 5353, 53, dns));  // other port
+    w.write(kCaptureStartNs, pcap::make_udp_ethernet_frame(0x0A000001, 0x0A000002, 5353, 53, dns));  // other port
     auto tcp = pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0));
     tcp[14 + 9] = 6;  // protocol TCP
-    w.write(kT0Ns + 1, tcp);
+    w.write(kCaptureStartNs + 1, tcp);
     auto arp = pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0));
     arp[12] = 0x08;
     arp[13] = 0x06;  // EtherType ARP
-    w.write(kT0Ns + 2, arp);
-    w.write(kT0Ns + 3, std::vector<std::uint8_t>(10, 0));  // runt
-    w.write(kT0Ns + 4, pcap::make_udp_ethernet_frame(0x0A000009, kHostIp, 6699, 6699, msop_payload(0)));  // other sender
-    w.write(kT0Ns + 5, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0)));
+    w.write(kCaptureStartNs + 2, arp);
+    w.write(kCaptureStartNs + 3, std::vector<std::uint8_t>(10, 0));  // runt
+    w.write(kCaptureStartNs + 4, pcap::make_udp_ethernet_frame(0x0A000009, kHostIp, 6699, 6699, msop_payload(0)));  // other sender
+    w.write(kCaptureStartNs + 5, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0)));
   }
   SourceConfig config;
   config.source_ip = kLidarIp;
@@ -159,8 +159,8 @@ TEST(Rs16PcapSource, PortsAreConfigurable) {
   TempFile file("ports.pcap");
   {
     pcap::Writer w(file.path(), pcap::kLinkEthernet);
-    w.write(kT0Ns, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0)));
-    w.write(kT0Ns + 1, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 2368, msop_payload(1)));
+    w.write(kCaptureStartNs, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 6699, msop_payload(0)));
+    w.write(kCaptureStartNs + 1, pcap::make_udp_ethernet_frame(kLidarIp, kHostIp, 6699, 2368, msop_payload(1)));
   }
   SourceConfig config;
   config.msop_port = 2368;
@@ -177,7 +177,7 @@ TEST(Rs16PcapSource, TruncatedRecordingSaysWhereAndKeepsWhatCameBefore) {
   TempFile file("truncated.pcap");
   {
     RecordingWriter w(file.path());
-    for (int i = 0; i < 5; ++i) w.write(kT0Ns + i * 1'332'000, PacketKind::Msop, msop_payload(i));
+    for (int i = 0; i < 5; ++i) w.write(kCaptureStartNs + i * 1'332'000, PacketKind::Msop, msop_payload(i));
   }
   std::filesystem::resize_file(file.path(), std::filesystem::file_size(file.path()) - 600);
   PcapSource source(file.path(), {});
@@ -215,13 +215,13 @@ TEST(Rs16PcapSource, BadLidarPacketsInARecordingAreCountedByTheDriver) {
     RecordingWriter w(file.path());
     auto wrong_magic = msop_payload(0);
     wrong_magic[0] = 0x00;
-    w.write(kT0Ns, PacketKind::Msop, wrong_magic);
-    w.write(kT0Ns + 1, PacketKind::Msop, std::vector<std::uint8_t>(100, 0x55));
+    w.write(kCaptureStartNs, PacketKind::Msop, wrong_magic);
+    w.write(kCaptureStartNs + 1, PacketKind::Msop, std::vector<std::uint8_t>(100, 0x55));
     auto wrong_tail = msop_payload(1);
     wrong_tail[1247] = 0x00;
-    w.write(kT0Ns + 2, PacketKind::Msop, wrong_tail);
-    w.write(kT0Ns + 3, PacketKind::Difop, msop_payload(2));  // MSOP bytes on the DIFOP port
-    w.write(kT0Ns + 4, PacketKind::Msop, msop_payload(3));
+    w.write(kCaptureStartNs + 2, PacketKind::Msop, wrong_tail);
+    w.write(kCaptureStartNs + 3, PacketKind::Difop, msop_payload(2));  // MSOP bytes on the DIFOP port
+    w.write(kCaptureStartNs + 4, PacketKind::Msop, msop_payload(3));
   }
   int scans = 0;
   Driver driver({}, [&](Scan&, const ScanReport&) { ++scans; });
@@ -256,8 +256,8 @@ TEST(Rs16RecordingWriter, WritesWhatPcapSourceReadsBack) {
   const auto difop = encode_difop(DifopData{});
   {
     RecordingWriter w(file.path(), addresses);
-    w.write(kT0Ns, PacketKind::Msop, msop_payload(0));
-    w.write(kT0Ns + 777, PacketKind::Difop, difop);
+    w.write(kCaptureStartNs, PacketKind::Msop, msop_payload(0));
+    w.write(kCaptureStartNs + 777, PacketKind::Difop, difop);
     w.flush();
   }
   SourceConfig config;
@@ -272,7 +272,7 @@ TEST(Rs16RecordingWriter, WritesWhatPcapSourceReadsBack) {
   const auto b = source.next();
   ASSERT_TRUE(b);
   EXPECT_EQ(b->kind, PacketKind::Difop);
-  EXPECT_NEAR(b->arrival_s, kT0Ns * 1e-9 + 777e-9, 1e-6);
+  EXPECT_NEAR(b->arrival_s, kCaptureStartNs * 1e-9 + 777e-9, 1e-6);
   EXPECT_TRUE(std::equal(difop.begin(), difop.end(), b->payload.begin(), b->payload.end()));
 }
 

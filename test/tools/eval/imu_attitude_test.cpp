@@ -34,7 +34,7 @@ TEST_P(EinrideRecording, TiltAgainstTheStillAccelerometerIsWithinOneDegree) {
   const std::string file = "mti/einride-mti-g-710/" + std::to_string(GetParam()) + "/output.bin";
   TUMBLE_REQUIRE_FIXTURE(file);
   ImuEvalOptions options;
-  const ImuEvaluation e = evaluate_imu_recording(test::fixture_path(file), options);
+  const ImuEvaluation e = evaluate_imu_recording(::tumble::test::fixture_path(file), options);
   EXPECT_EQ(e.reader_problem, "");
   ASSERT_GT(e.samples, 90u);
   ASSERT_EQ(e.still_periods.size(), 1u);  // the unit lies still for the whole second
@@ -58,7 +58,7 @@ INSTANTIATE_TEST_SUITE_P(Fixtures, EinrideRecording, ::testing::Values(1, 2, 3, 
 TEST(ImuAttitude, WritesTumAndAReport) {
   const std::string file = "mti/einride-mti-g-710/1/output.bin";
   TUMBLE_REQUIRE_FIXTURE(file);
-  const ImuEvaluation e = evaluate_imu_recording(test::fixture_path(file), ImuEvalOptions{});
+  const ImuEvaluation e = evaluate_imu_recording(::tumble::test::fixture_path(file), ImuEvalOptions{});
   const test::TempDir dir;
   write_attitude_tum(e, dir.path() / "attitude.tum");
   std::ifstream in(dir.path() / "attitude.tum");
@@ -74,7 +74,7 @@ TEST(ImuAttitude, WritesTumAndAReport) {
 TEST(ImuAttitude, ARecordingWithoutImuSamplesIsReportedNotFailed) {
   const std::string file = "mti/einride-mti-g-710/5/output.bin";
   TUMBLE_REQUIRE_FIXTURE(file);
-  const ImuEvaluation e = evaluate_imu_recording(test::fixture_path(file), ImuEvalOptions{});
+  const ImuEvaluation e = evaluate_imu_recording(::tumble::test::fixture_path(file), ImuEvalOptions{});
   EXPECT_EQ(e.samples, 0u);
   EXPECT_FALSE(e.initialized_at_s.has_value());
   EXPECT_NE(imu_report_markdown(e).find("never initialised"), std::string::npos);

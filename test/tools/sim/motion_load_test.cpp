@@ -15,7 +15,7 @@ std::string motion_file(const std::string& name) {
   return (std::filesystem::path(TUMBLE_SIM_SCENES_DIR).parent_path() / "motions" / name).string();
 }
 
-std::string error_of(const std::string& yaml) {
+std::string motion_error_of(const std::string& yaml) {
   try {
     MotionLoadOptions o;
     o.source_name = "bad.yaml";
@@ -118,47 +118,47 @@ TEST(MotionLoad, KeyPathInsideAnEnclosingFile) {
 }
 
 TEST(MotionLoad, ErrorsNameTheKeyAndWhy) {
-  EXPECT_EQ(error_of("{type: teleport}"),
+  EXPECT_EQ(motion_error_of("{type: teleport}"),
             "bad.yaml: type: must be one of: static, rail, turntable, rolling_cage, walk, vibration, sequence, "
             "superpose (got 'teleport')");
-  EXPECT_EQ(error_of("{type: static, duration_s: -1}"), "bad.yaml: duration_s: must be a positive number");
-  EXPECT_EQ(error_of("{type: rail, profile: [{hold_s: 1}, {ramp: {to_m_s: 3, peak_m_s2: 0}}]}"),
+  EXPECT_EQ(motion_error_of("{type: static, duration_s: -1}"), "bad.yaml: duration_s: must be a positive number");
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{hold_s: 1}, {ramp: {to_m_s: 3, peak_m_s2: 0}}]}"),
             "bad.yaml: profile[1].ramp.peak_m_s2: must be a positive number");
-  EXPECT_EQ(error_of("{type: rail, profile: [{ramp: {to_rad_s: 3, peak_m_s2: 2}}]}"),
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{ramp: {to_rad_s: 3, peak_m_s2: 2}}]}"),
             "bad.yaml: profile[0].ramp.to_rad_s: unknown key (allowed: to_m_s peak_m_s2 rise_s)");
-  EXPECT_EQ(error_of("{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2, rise_s: 0.6}}]}"),
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2, rise_s: 0.6}}]}"),
             "bad.yaml: profile[0].ramp.rise_s: too long for this change: at most 0.5 s (|change| / peak_m_s2)");
-  EXPECT_EQ(error_of("{type: rail, profile: [{shock: {peak_m_s2: 200, restitution: 0.5}}]}"),
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{shock: {peak_m_s2: 200, restitution: 0.5}}]}"),
             "bad.yaml: profile[0].shock: an end-stop shock (restitution) needs a nonzero velocity before it");
-  EXPECT_EQ(error_of("{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2}}, {travel: {distance_m: 3, max_m_s: 1, "
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2}}, {travel: {distance_m: 3, max_m_s: 1, "
                      "peak_m_s2: 1}}]}"),
             "bad.yaml: profile[1].travel: must start at rest (add a ramp to 0 before it)");
-  EXPECT_EQ(error_of("{type: rail, profile: [{fly: 2}]}"),
+  EXPECT_EQ(motion_error_of("{type: rail, profile: [{fly: 2}]}"),
             "bad.yaml: profile[0]: unknown step 'fly' (allowed: hold_s, ramp, travel, shock, jolt)");
-  EXPECT_EQ(error_of("{type: turntable, profile: []}"), "bad.yaml: profile: must be a non-empty list of steps");
-  EXPECT_EQ(error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], bounces: {count: 1, peak_m_s2: [5, 8]}}"),
+  EXPECT_EQ(motion_error_of("{type: turntable, profile: []}"), "bad.yaml: profile: must be a non-empty list of steps");
+  EXPECT_EQ(motion_error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], bounces: {count: 1, peak_m_s2: [5, 8]}}"),
             "bad.yaml: bounces.peak_m_s2: must exceed g = 9.80665 m/s^2 (an impact has to lift the cage)");
-  EXPECT_EQ(error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], bounces: {count: 1, height_m: [0.2, "
+  EXPECT_EQ(motion_error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], bounces: {count: 1, height_m: [0.2, "
                      "0.1]}}"),
             "bad.yaml: bounces.height_m: must be [min, max] with 0 < min <= max, or one positive number");
-  EXPECT_EQ(error_of("{type: rolling_cage, radius_m: 0.25, roll: [{ramp: {to_rad_s: 5, peak_rad_s2: 20}}, {hold_s: 1}], "
+  EXPECT_EQ(motion_error_of("{type: rolling_cage, radius_m: 0.25, roll: [{ramp: {to_rad_s: 5, peak_rad_s2: 20}}, {hold_s: 1}], "
                      "jolts: {count: 50}}"),
             "bad.yaml: jolts.count: too many events: they do not fit, with min_gap_s between them, in the parts of "
             "the roll at a constant nonzero rate");
-  EXPECT_EQ(error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], seed: -3}"),
+  EXPECT_EQ(motion_error_of("{type: rolling_cage, radius_m: 0.25, roll: [{hold_s: 1}], seed: -3}"),
             "bad.yaml: seed: must be an unsigned integer");
-  EXPECT_EQ(error_of("{type: sequence, parts: [{type: static, duration_s: 1}, {type: rail, profile: [{hold_s: 1}], "
+  EXPECT_EQ(motion_error_of("{type: sequence, parts: [{type: static, duration_s: 1}, {type: rail, profile: [{hold_s: 1}], "
                      "origin: {xyz_m: [1, 0, 0]}}]}"),
             "bad.yaml: parts[1].origin: only the first part can be placed; later parts continue from the previous one");
-  EXPECT_EQ(error_of("{type: sequence, parts: [{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2}}]}, "
+  EXPECT_EQ(motion_error_of("{type: sequence, parts: [{type: rail, profile: [{ramp: {to_m_s: 1, peak_m_s2: 2}}]}, "
                      "{type: static, duration_s: 1}]}"),
             "bad.yaml: parts: part 1 does not continue part 0: velocity jumps from [1 0 0] to [0 0 0] m/s");
-  EXPECT_EQ(error_of("{type: vibration, duration_s: 1, frequency_hz: 10, fade_s: 0.8}"),
+  EXPECT_EQ(motion_error_of("{type: vibration, duration_s: 1, frequency_hz: 10, fade_s: 0.8}"),
             "bad.yaml: fade_s: must be at most duration_s / 2");
-  EXPECT_EQ(error_of("{type: superpose, base: {type: static, duration_s: 1}}"), "bad.yaml: offset: missing");
-  EXPECT_EQ(error_of("{type: walk, forward: [{hold_s: 1}], origin: {xyz: [0, 0, 0]}}"),
+  EXPECT_EQ(motion_error_of("{type: superpose, base: {type: static, duration_s: 1}}"), "bad.yaml: offset: missing");
+  EXPECT_EQ(motion_error_of("{type: walk, forward: [{hold_s: 1}], origin: {xyz: [0, 0, 0]}}"),
             "bad.yaml: origin.xyz: unknown key (allowed: xyz_m rpy_deg)");
-  EXPECT_EQ(error_of("[1, 2]"), "bad.yaml: (top level): must be a map of key: value");
+  EXPECT_EQ(motion_error_of("[1, 2]"), "bad.yaml: (top level): must be a map of key: value");
 }
 
 }  // namespace

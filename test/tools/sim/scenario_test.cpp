@@ -19,7 +19,7 @@ Scenario parse(const std::string& text, const std::filesystem::path& base = ".")
   return parse_scenario(YAML::Load(text), "s.yaml", base);
 }
 
-std::string error_of(const std::string& text) {
+std::string scenario_error_of(const std::string& text) {
   try {
     parse(text);
   } catch (const SimConfigError& e) {
@@ -51,28 +51,28 @@ TEST(Scenario, OnlySceneAndMotionAreRequiredAndDefaultsAreTheDatasheets) {
 }
 
 TEST(Scenario, ErrorsNameTheFileTheKeyAndWhy) {
-  EXPECT_EQ(error_of("motion: static\n"), "s.yaml: scene: missing");
-  EXPECT_NE(error_of("scene: nowhere\nmotion: static\n").find("s.yaml: scene: no such scene"), std::string::npos);
-  EXPECT_NE(error_of("scene: garage\n").find("s.yaml: motion: missing"), std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "lidar: {rpm: 700}\n").find("s.yaml: lidar.rpm: must be 300, 600 or 1200"),
+  EXPECT_EQ(scenario_error_of("motion: static\n"), "s.yaml: scene: missing");
+  EXPECT_NE(scenario_error_of("scene: nowhere\nmotion: static\n").find("s.yaml: scene: no such scene"), std::string::npos);
+  EXPECT_NE(scenario_error_of("scene: garage\n").find("s.yaml: motion: missing"), std::string::npos);
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {rpm: 700}\n").find("s.yaml: lidar.rpm: must be 300, 600 or 1200"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "lidar: {rmp: 600}\n").find("s.yaml: lidar.rmp: unknown key"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {rmp: 600}\n").find("s.yaml: lidar.rmp: unknown key"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "speed: 3\n").find("s.yaml: speed: unknown key"), std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "imu: {rate_hz: 300}\n").find("s.yaml: imu.rate_hz: must divide 400"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "speed: 3\n").find("s.yaml: speed: unknown key"), std::string::npos);
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "imu: {rate_hz: 300}\n").find("s.yaml: imu.rate_hz: must divide 400"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "imu: {rate_hz: 400}\n").find("s.yaml: imu.baud: 115200 is too slow"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "imu: {rate_hz: 400}\n").find("s.yaml: imu.baud: 115200 is too slow"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "imu: {number_format: double}\n").find("s.yaml: imu.number_format: must be"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "imu: {number_format: double}\n").find("s.yaml: imu.number_format: must be"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "epoch_utc: yesterday\n").find("s.yaml: epoch_utc: must be like"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "epoch_utc: yesterday\n").find("s.yaml: epoch_utc: must be like"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "seed: -3\n").find("s.yaml: seed: must be an unsigned integer"),
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "seed: -3\n").find("s.yaml: seed: must be an unsigned integer"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "extrinsics: {T_LI: {translation_m: [1, 2]}}\n")
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "extrinsics: {T_LI: {translation_m: [1, 2]}}\n")
                 .find("s.yaml: extrinsics.T_LI.translation_m: must be 3 numbers"),
             std::string::npos);
-  EXPECT_NE(error_of(std::string(kMinimal) + "lidar: {dropout_probability: 1.5}\n")
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {dropout_probability: 1.5}\n")
                 .find("s.yaml: lidar.dropout_probability: must be in [0, 1], got 1.5"),
             std::string::npos);
 }

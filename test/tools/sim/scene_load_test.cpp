@@ -19,7 +19,7 @@ std::string scene_file(const std::string& name) {
   return (std::filesystem::path(TUMBLE_SIM_SCENES_DIR) / name).string();
 }
 
-std::string error_of(const std::string& yaml) {
+std::string scene_error_of(const std::string& yaml) {
   try {
     parse_scene(YAML::Load(yaml), "bad.yaml");
   } catch (const SimConfigError& e) {
@@ -95,28 +95,28 @@ objects:
 }
 
 TEST(SceneLoad, ErrorsNameTheKeyAndWhy) {
-  EXPECT_EQ(error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1, 2]}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1, 2]}]"),
             "bad.yaml: objects[0].size_m: must be 3 positive numbers");
-  EXPECT_EQ(error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1,1,1]}, "
+  EXPECT_EQ(scene_error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1,1,1]}, "
                      "{type: box, center_m: [0,0,0], size_m: [1, -2, 1]}]"),
             "bad.yaml: objects[1].size_m: must be 3 positive numbers");
-  EXPECT_EQ(error_of("objects: [{type: sphere, center_m: [0,0,0]}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: sphere, center_m: [0,0,0]}]"),
             "bad.yaml: objects[0].type: must be one of: plane, box, cylinder (got 'sphere')");
-  EXPECT_EQ(error_of("objects: [{type: cylinder, center_m: [0,0,0], height_m: 2}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: cylinder, center_m: [0,0,0], height_m: 2}]"),
             "bad.yaml: objects[0].radius_m: missing");
-  EXPECT_EQ(error_of("objects: [{type: plane, center_m: [0,0], size_m: [1, 1]}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: plane, center_m: [0,0], size_m: [1, 1]}]"),
             "bad.yaml: objects[0].center_m: must be 3 numbers [x, y, z]");
-  EXPECT_EQ(error_of("objects: [{type: plane, center_m: [0,0,0], reflectivity: 200}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: plane, center_m: [0,0,0], reflectivity: 200}]"),
             "bad.yaml: objects[0].reflectivity: must be in [0, 1]");
-  EXPECT_EQ(error_of("objects: [{type: plane, center_m: [0,0,0], colour: red}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: plane, center_m: [0,0,0], colour: red}]"),
             "bad.yaml: objects[0].colour: unknown key (allowed: type name reflectivity center_m rpy_deg size_m repeat)");
-  EXPECT_EQ(error_of("objects: [{type: cylinder, center_m: [0,0,0], radius_m: 1, height_m: 1, axis: [0,0,0]}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: cylinder, center_m: [0,0,0], radius_m: 1, height_m: 1, axis: [0,0,0]}]"),
             "bad.yaml: objects[0].axis: must be a nonzero vector");
-  EXPECT_EQ(error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1,1,1], repeat: {count: [2, 0, 1], step_m: [1,1,1]}}]"),
+  EXPECT_EQ(scene_error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1,1,1], repeat: {count: [2, 0, 1], step_m: [1,1,1]}}]"),
             "bad.yaml: objects[0].repeat.count: must be 3 integers in [1, 1000] [nx, ny, nz]");
-  EXPECT_EQ(error_of("objects: []"), "bad.yaml: objects: must be a non-empty list of objects");
-  EXPECT_EQ(error_of("name: x"), "bad.yaml: objects: must be a non-empty list of objects");
-  EXPECT_EQ(error_of("objects: [{type: box, center_m: [0, nan, 0], size_m: [1,1,1]}]"),
+  EXPECT_EQ(scene_error_of("objects: []"), "bad.yaml: objects: must be a non-empty list of objects");
+  EXPECT_EQ(scene_error_of("name: x"), "bad.yaml: objects: must be a non-empty list of objects");
+  EXPECT_EQ(scene_error_of("objects: [{type: box, center_m: [0, nan, 0], size_m: [1,1,1]}]"),
             "bad.yaml: objects[0].center_m[1]: must be a finite number");
 }
 
