@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "core/imu_fuser.hpp"
 #include "drivers/mti/imu_recording_reader.hpp"
 
@@ -11,7 +12,6 @@ namespace tumble::eval {
 namespace {
 
 constexpr double kGravity_m_s2 = 9.80665;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 // Coordinate-system bits of an orientation XDI (mti.md): 01 = NED, whose up is −z.
 constexpr std::uint16_t kCoordinateMask = 0x000C;
 constexpr std::uint16_t kCoordinateNed = 0x0004;

@@ -3,13 +3,13 @@
 #include <fstream>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "tools/eval/gnuplot.hpp"
 #include "tools/eval/imu_attitude.hpp"
 
 namespace tumble::eval {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr std::size_t kMaxPlotPoints = 5000;
 
 std::string format(const char* pattern, auto... values) {

@@ -3,10 +3,11 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/angles.hpp"
+
 namespace tumble::sim {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kMicroG = kGravity_m_s2 * 1e-6;
 constexpr std::uint32_t kTicksPerSecond = 10'000;
 constexpr std::uint64_t kSampleTimeFineWrap = 864'000'000;  // one day of ticks

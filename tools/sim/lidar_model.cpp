@@ -4,13 +4,13 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/angles.hpp"
 #include "drivers/rs16/firing_model.hpp"
 #include "drivers/rs16/laser_geometry.hpp"
 
 namespace tumble::sim {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 const rs16::ChannelTiming kSingleReturnTiming = rs16::channel_timing(rs16::ReturnMode::Strongest);
 
 double wrap_deg(double a) {

@@ -1,5 +1,6 @@
 #include "tools/sim/motion_load.hpp"
 
+#include "core/angles.hpp"
 #include "tools/sim/motion_compose.hpp"
 #include "tools/sim/motion_primitives.hpp"
 #include "tools/sim/motion_rolling_cage.hpp"
@@ -15,7 +16,6 @@ namespace tumble::sim {
 
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // {xyz_m: [...], rpy_deg: [...]}, both optional inside.
 Eigen::Isometry3d read_pose(const YAML::Node& map, const YamlPath& at, std::string_view key) {

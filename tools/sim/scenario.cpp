@@ -8,12 +8,12 @@
 #include <numbers>
 #include <sstream>
 
+#include "core/angles.hpp"
 #include "tools/sim/yaml_fields.hpp"
 
 namespace tumble::sim {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr const char* kDefaultEpoch = "2021-05-26T12:00:00Z";
 
 // "YYYY-MM-DDTHH:MM:SS[.fraction]Z" as nanoseconds since the Unix epoch.
