@@ -59,6 +59,22 @@ class StatusAggregatorTest : public ::testing::Test {
     reports_.push(r);
   }
 
+  // A registered scan that passes every test but, maybe, convergence.
+  static RegistrationRecord registered_scan(bool converged) {
+    RegistrationRecord r;
+    r.converged = converged;
+    r.registered = true;
+    r.inlier_ratio = 0.6f;
+    r.degeneracy = 0.5f;
+    return r;
+  }
+
+  // The next health tick on sensor time, 0.1 s of data after the previous one.
+  void evaluate_next_tick() {
+    tick_s_ += 0.1;
+    aggregator_.evaluate(SensorTimeTick{tick_s_, tick_s_ - 0.01, tick_s_ - 0.01, 0, reports_.pushed()});
+  }
+
   void sensors_alive(std::int64_t now_ns) {
     counters_.last_imu_steady_ns = now_ns;
     counters_.last_lidar_steady_ns = now_ns;
@@ -78,6 +94,7 @@ class StatusAggregatorTest : public ::testing::Test {
   std::shared_ptr<spdlog::logger> logger_;
   StatusAggregator aggregator_;
   tumble::status_t status_{};
+  double tick_s_ = 10.0;
 };
 
 TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
@@ -235,33 +252,24 @@ TEST_F(StatusAggregatorTest, OnSensorTimeTheTicksDecideNotTheClocks) {
 
 TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted) {
   const auto scan = [this](bool spin_rate_unmeasured) {
-    RegistrationRecord r;
-    r.converged = true;
-    r.registered = true;
-    r.inlier_ratio = 0.6f;
-    r.degeneracy = 0.5f;
+    RegistrationRecord r = registered_scan(true);
     r.spin_rate_unmeasured = spin_rate_unmeasured;
     reports_.push(r);
   };
-  double t = 10.0;
-  const auto evaluate = [&] {
-    t += 0.1;
-    aggregator_.evaluate(SensorTimeTick{t, t - 0.01, t - 0.01, 0, reports_.pushed()});
-  };
   scan(false);
-  evaluate();
-  evaluate();
+  evaluate_next_tick();
+  evaluate_next_tick();
   ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
   scan(true);  // converged, full inliers: good by every other test
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
   EXPECT_NE(log_.str().find("tracking -> degraded: gyro clipped about the lidar's spin axis"), std::string::npos)
       << log_.str();
   for (int i = 0; i < 4; ++i) scan(false);
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);  // 4 good scans: one short of recovering
   scan(false);
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
   counters_.scans_spin_rate_unmeasured = 1;
   aggregator_.publish(0, 0, status_);
@@ -270,11 +278,7 @@ TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted)
 
 TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
-    RegistrationRecord r;
-    r.converged = good;
-    r.registered = true;
-    r.inlier_ratio = 0.6f;
-    r.degeneracy = 0.5f;
+    RegistrationRecord r = registered_scan(good);
     r.resets = resets;
     r.reset_reason = resets > 0 ? TrackingLoss::DisagreesWithImu : TrackingLoss::None;
     r.map_initialised = map_initialised;
@@ -282,28 +286,23 @@ TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   };
   scan(0, true, false);
   scan(0, false, true);
-  double t = 10.0;
-  const auto evaluate = [&] {
-    t += 0.1;
-    aggregator_.evaluate(SensorTimeTick{t, t - 0.01, t - 0.01, 0, reports_.pushed()});
-  };
-  evaluate();
-  evaluate();
+  evaluate_next_tick();
+  evaluate_next_tick();
   ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
   scan(0, false, false);
   scan(1, false, false);  // the registration gave up its map
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Lost);
   EXPECT_NE(log_.str().find("tracking -> lost: registrations disagree with the IMU-propagated pose"),
             std::string::npos)
       << log_.str();
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Lost);  // no new map yet
   scan(1, true, false);
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
   scan(1, false, true);
-  evaluate();
+  evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
   counters_.resets = 1;
   aggregator_.publish(0, 0, status_);
