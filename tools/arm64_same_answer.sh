@@ -26,6 +26,8 @@ arm64_deps=$root/build/arm64-deps/usr/lib/aarch64-linux-gnu
 
 log() { printf '\033[1m[arm64-check]\033[0m %s\n' "$*" >&2; }
 fail() { log "$*"; exit 1; }
+# shellcheck source=tools/default_run.sh
+source "$root/tools/default_run.sh"
 
 for tool in "$sim" "$eval" "$amd64/daemon/tumbled"; do
   [ -x "$tool" ] || fail "missing $tool: build the amd64 tree first (./tumble build)"
@@ -45,17 +47,10 @@ esac
 # ELF e_machine (offset 18, little-endian) 0xb7 = EM_AARCH64.
 [ "$(od -An -tx1 -j18 -N2 "$arm64_tumbled" | tr -d ' ')" = b700 ] || fail "$arm64_tumbled is not an arm64 program"
 
-if [ ! -f "$run/manifest.yaml" ] || [ "$scenario" -nt "$run/manifest.yaml" ] || [ "$sim" -nt "$run/manifest.yaml" ]; then
-  log "generating the default run into $run"
-  rm -rf "$run"
-  "$sim" run "$scenario" --out "$run" >&2
-fi
-
+ensure_default_run "$sim" "$scenario" "$run" log
 # As ./tumble demo replays it: the simulated IMU's mounting from the manifest.
-extrinsic() { sed -n "/^  T_LI:/,/meaning:/s/^    $1: //p" "$run/manifest.yaml"; }
-replay=(--replay "$run/lidar.pcap" "$run/imu.pcap" --rate max --lcm-url memq:// --log-level warn
-        --set "imu.extrinsic_T_LI.translation_m=$(extrinsic translation_m)"
-        --set "imu.extrinsic_T_LI.rotation_rpy_deg=$(extrinsic rpy_deg)")
+mounting_of "$run"
+replay=(--replay "$run/lidar.pcap" "$run/imu.pcap" --rate max --lcm-url memq:// --log-level warn "${mounting[@]}")
 
 declare -A seconds
 for arch in amd64 arm64; do

@@ -19,25 +19,15 @@ run=$build/demo/default-run
 out=$build/demo/out
 
 log() { printf '\033[1m[demo]\033[0m %s\n' "$*" >&2; }
+# shellcheck source=tools/default_run.sh
+source "$root/tools/default_run.sh"
 
 for tool in "$sim" "$tumbled" "$eval"; do
   [ -x "$tool" ] || { log "missing $tool: build first (./tumble build)"; exit 1; }
 done
 
-# The run depends on the scenario and on the simulator that renders it.
-if [ ! -f "$run/manifest.yaml" ] || [ "$scenario" -nt "$run/manifest.yaml" ] || [ "$sim" -nt "$run/manifest.yaml" ]; then
-  log "generating the default run ($scenario) into $run"
-  rm -rf "$run"
-  "$sim" run "$scenario" --out "$run"
-else
-  log "reusing $run (delete it to regenerate)"
-fi
-
-# The simulated IMU's mounting, from the run's manifest, as a robot's
-# calibrated tumbled.yaml would give it.
-extrinsic() { sed -n "/^  T_LI:/,/meaning:/s/^    $1: //p" "$run/manifest.yaml"; }
-mounting=(--set "imu.extrinsic_T_LI.translation_m=$(extrinsic translation_m)"
-          --set "imu.extrinsic_T_LI.rotation_rpy_deg=$(extrinsic rpy_deg)")
+ensure_default_run "$sim" "$scenario" "$run" log
+mounting_of "$run"
 
 rate=(--rate 1)
 for arg in "$@"; do [ "$arg" = --rate ] && rate=(); done
