@@ -435,6 +435,14 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
     counters_.scans_dropped.fetch_add(1, std::memory_order_relaxed);
     return;
   }
+  // The fuser initialised after this scan: nothing to place it with, as when
+  // it has not initialised yet. Which of the two it is depends on how far the
+  // fuser ran ahead, so registering such a scan would make the first
+  // registered scan, and every pose after it, depend on thread timing.
+  if (window.count == 0 || window_[0].t_s >= span.end_s) {
+    stage.discard_held_scan();
+    return;
+  }
   tumble::scan_t* viewer = publish_scan_ ? &scans_.draft() : nullptr;
   stage.register_held_scan(std::span<const TrajectoryRecord>(window_.data(), window.count), registration_out_, viewer);
   registration_out_.scan_complete_steady_ns = scan_complete_steady_ns;

@@ -3,6 +3,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <limits>
 #include <stdexcept>
@@ -99,6 +100,32 @@ struct MsopDraws {
   std::uint64_t foreign_pick;
 };
 
+// Late arrivals keep their order: a datagram never overtakes the one before.
+void delay_lidar(std::vector<LidarRecord>& records, const FaultPlan& plan, FaultCounts& counts) {
+  if (plan.lidar_delay_s <= 0.0) return;
+  constexpr double kStallChance = 0.002;
+  constexpr double kStallToMeanDelay = 4.0;
+  SensorRng rng(plan.seed, "faults/lidar-delay");
+  const auto exponential = [&rng](double mean_s) { return -mean_s * std::log(1.0 - rng.uniform()); };
+  std::int64_t previous_ns = std::numeric_limits<std::int64_t>::min();
+  std::int64_t stall_end_ns = std::numeric_limits<std::int64_t>::min();
+  double delay_sum_s = 0.0;
+  for (auto& r : records) {
+    if (rng.chance(kStallChance)) {
+      stall_end_ns = std::max(stall_end_ns, r.t_ns + to_ns(exponential(kStallToMeanDelay * plan.lidar_delay_s)));
+      ++counts.lidar_stalls;
+    }
+    const std::int64_t arrival_ns =
+        std::max({r.t_ns + to_ns(exponential(plan.lidar_delay_s)), stall_end_ns, previous_ns});
+    const double delay_s = static_cast<double>(arrival_ns - r.t_ns) * 1e-9;
+    if (arrival_ns > r.t_ns) ++counts.lidar_delayed;
+    delay_sum_s += delay_s;
+    counts.lidar_max_delay_s = std::max(counts.lidar_max_delay_s, delay_s);
+    r.t_ns = previous_ns = arrival_ns;
+  }
+  if (!records.empty()) counts.lidar_mean_delay_s = delay_sum_s / static_cast<double>(records.size());
+}
+
 std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t start_ns, const FaultPlan& plan,
                                       FaultCounts& counts) {
   SensorRng drop_rng(plan.seed, "faults/drop-lidar"), dup_rng(plan.seed, "faults/dup-lidar"),
@@ -175,6 +202,7 @@ std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t 
       ++counts.lidar_foreign;
     }
   }
+  delay_lidar(out, plan, counts);
   return out;
 }
 
@@ -243,6 +271,7 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   p["swap_lidar"] = plan.swap_lidar;
   p["foreign_lidar"] = plan.foreign_lidar;
   p["imu_garbage"] = plan.imu_garbage;
+  p["lidar_delay_s"] = plan.lidar_delay_s;
   if (plan.lidar_gap) p["lidar_gap"] = window_node(*plan.lidar_gap, c.run_start_s);
   if (plan.imu_gap) p["imu_gap"] = window_node(*plan.imu_gap, c.run_start_s);
   if (plan.lidar_clock_jump) {
@@ -260,6 +289,10 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   n["lidar_duplicated"] = c.lidar_duplicated;
   n["lidar_swapped_pairs"] = c.lidar_swapped_pairs;
   n["lidar_foreign"] = c.lidar_foreign;
+  n["lidar_delayed"] = c.lidar_delayed;
+  n["lidar_stalls"] = c.lidar_stalls;
+  n["lidar_mean_delay_s"] = c.lidar_mean_delay_s;
+  n["lidar_max_delay_s"] = c.lidar_max_delay_s;
   n["imu_reads"] = c.imu_reads;
   n["imu_gap_dropped"] = c.imu_gap_dropped;
   n["imu_garbled_reads"] = c.imu_garbled_reads;

@@ -24,6 +24,10 @@ struct FaultCounts {
   std::uint64_t lidar_duplicated = 0;      // MSOP packets sent twice
   std::uint64_t lidar_swapped_pairs = 0;   // neighbouring MSOP packets that changed places
   std::uint64_t lidar_foreign = 0;         // datagrams added from kForeignLidarIp
+  std::uint64_t lidar_delayed = 0;         // datagrams that arrive later than recorded
+  std::uint64_t lidar_stalls = 0;          // of them, the stalls that held back those after
+  double lidar_mean_delay_s = 0.0;
+  double lidar_max_delay_s = 0.0;
   std::uint64_t imu_reads = 0;             // in the source run
   std::uint64_t imu_gap_dropped = 0;       // serial reads removed by --imu-gap
   std::uint64_t imu_garbled_reads = 0;     // reads preceded by garbage

@@ -43,6 +43,9 @@ void validate(const FaultPlan& plan) {
   check_chance("--swap-lidar", plan.swap_lidar);
   check_chance("--foreign-lidar", plan.foreign_lidar);
   check_chance("--imu-garbage", plan.imu_garbage);
+  if (!(plan.lidar_delay_s >= 0.0 && plan.lidar_delay_s <= 1.0))
+    throw std::invalid_argument("--lidar-delay " + std::to_string(plan.lidar_delay_s) +
+                                ": must be a mean delay in [0, 1] s");
   check_window("--lidar-gap", plan.lidar_gap);
   check_window("--imu-gap", plan.imu_gap);
   if (plan.lidar_clock_jump && !(plan.lidar_clock_jump->at_s >= 0.0 && plan.lidar_clock_jump->jump_s != 0.0))

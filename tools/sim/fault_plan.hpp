@@ -26,6 +26,10 @@ struct FaultPlan {
   double swap_lidar = 0.0;     // chance an MSOP packet swaps places with the next one
   double foreign_lidar = 0.0;  // chance an MSOP packet is followed by one from a foreign sender
   double imu_garbage = 0.0;    // chance a serial read is preceded by 1..40 garbage bytes
+  // Mean extra delay of a lidar datagram's arrival (exponential, with stalls
+  // that hold back what follows); header times and order are kept, as a
+  // switch's queue or a busy host does.
+  double lidar_delay_s = 0.0;
   std::optional<FaultWindow> lidar_gap;  // no lidar datagram arrives
   std::optional<FaultWindow> imu_gap;    // no serial read arrives
   std::optional<ClockJump> lidar_clock_jump;

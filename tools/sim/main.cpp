@@ -77,13 +77,14 @@ int command_faults(const std::string& run_dir, const std::string& out_dir, const
   const FaultCounts c = inject_faults(run_dir, out_dir, plan);
   std::fprintf(stderr,
                "tumble-sim faults: wrote %s: of %llu MSOP packets %llu lost, %llu duplicated, %llu pairs swapped, "
-               "%llu foreign added; %llu lidar datagrams in the gap, %llu clock-jumped; of %llu IMU reads %llu in "
-               "the gap, %llu garbled\n",
+               "%llu foreign added; %llu lidar datagrams in the gap, %llu clock-jumped, %llu late (mean %.1f ms, "
+               "max %.1f ms); of %llu IMU reads %llu in the gap, %llu garbled\n",
                out_dir.c_str(), static_cast<unsigned long long>(c.msop_packets),
                static_cast<unsigned long long>(c.lidar_dropped), static_cast<unsigned long long>(c.lidar_duplicated),
                static_cast<unsigned long long>(c.lidar_swapped_pairs), static_cast<unsigned long long>(c.lidar_foreign),
                static_cast<unsigned long long>(c.lidar_gap_dropped),
-               static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.imu_reads),
+               static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.lidar_delayed),
+               c.lidar_mean_delay_s * 1e3, c.lidar_max_delay_s * 1e3, static_cast<unsigned long long>(c.imu_reads),
                static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads));
   return 0;
 }
@@ -173,6 +174,8 @@ int main(int argc, char** argv) {
   faults->add_option("--foreign-lidar", fault_plan.foreign_lidar,
                      "chance an MSOP packet is followed by one from 192.168.1.201");
   faults->add_option("--imu-garbage", fault_plan.imu_garbage, "chance a serial read is preceded by 1-40 garbage bytes");
+  faults->add_option("--lidar-delay", fault_plan.lidar_delay_s,
+                     "M: each lidar datagram is held an exponential time of mean M s, with stalls; order kept");
   CLI::Option* lidar_gap_option = faults->add_option("--lidar-gap", lidar_gap, "T,D: no lidar datagram for D s from T s");
   CLI::Option* imu_gap_option = faults->add_option("--imu-gap", imu_gap, "T,D: no serial read for D s from T s");
   CLI::Option* clock_jump_option =

@@ -168,9 +168,10 @@ class FakeImuDecoder : public ImuDecoder {
 class FakeFuser : public FuserStage {
  public:
   std::chrono::milliseconds correction_delay{0};  // a slow fuser thread
+  int samples_before_initialised = kImuSamplesBeforeInitialised;
 
   bool add_imu(const ImuSample& sample, TrajectoryRecord& out) override {
-    if (++samples_ <= kImuSamplesBeforeInitialised) return false;
+    if (++samples_ <= samples_before_initialised) return false;
     out = TrajectoryRecord{};
     out.t_s = sample.t_s;
     out.p_w_m = {sample.t_s, 0.0, 0.0};

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -296,6 +297,36 @@ TEST_F(FaultInjector, AClockJumpMovesTheHeaderTimesFromItsMomentOn) {
   EXPECT_GT(jumped, 300u);
 }
 
+TEST_F(FaultInjector, LateDatagramsKeepTheirOrderAndBytesAndArriveNoEarlier) {
+  FaultPlan plan;
+  plan.lidar_delay_s = 0.005;
+  const FaultCounts c = inject(plan);
+  const auto before = read_lidar(run_ / kLidarPcapName);
+  const auto after = read_lidar(out() / kLidarPcapName);
+  ASSERT_EQ(after.size(), before.size());
+  double sum_s = 0.0, max_s = 0.0;
+  for (std::size_t i = 0; i < after.size(); ++i) {
+    EXPECT_EQ(after[i].payload, before[i].payload) << i;
+    ASSERT_GE(after[i].t_ns, before[i].t_ns) << i;
+    if (i > 0) {
+      ASSERT_GE(after[i].t_ns, after[i - 1].t_ns) << i;
+    }
+    const double delay_s = static_cast<double>(after[i].t_ns - before[i].t_ns) * 1e-9;
+    sum_s += delay_s;
+    max_s = std::max(max_s, delay_s);
+  }
+  EXPECT_EQ(c.lidar_delayed, after.size());
+  EXPECT_NEAR(c.lidar_mean_delay_s, sum_s / static_cast<double>(after.size()), 1e-9);
+  EXPECT_DOUBLE_EQ(c.lidar_max_delay_s, max_s);
+  // Held back behind slower ones, datagrams are later than the 5 ms mean hold.
+  EXPECT_GT(c.lidar_mean_delay_s, 0.005);
+  EXPECT_LT(c.lidar_mean_delay_s, 0.05);
+  EXPECT_EQ(slurp(out() / kImuPcapName), slurp(run_ / kImuPcapName));
+  const FaultCounts again = inject(plan, "again");
+  EXPECT_EQ(slurp(out("again") / kLidarPcapName), slurp(out() / kLidarPcapName));
+  EXPECT_EQ(again.lidar_stalls, c.lidar_stalls);
+}
+
 TEST_F(FaultInjector, BadPlansAndFoldersAreRefusedWithTheirName) {
   FaultPlan plan;
   plan.dup_lidar = 1.5;
@@ -307,6 +338,9 @@ TEST_F(FaultInjector, BadPlansAndFoldersAreRefusedWithTheirName) {
       std::invalid_argument);
   plan = {};
   plan.imu_gap = FaultWindow{1.0, 0.0};
+  EXPECT_THROW(inject(plan), std::invalid_argument);
+  plan = {};
+  plan.lidar_delay_s = -0.001;
   EXPECT_THROW(inject(plan), std::invalid_argument);
   EXPECT_THROW(inject_faults(run_, run_, {}), std::invalid_argument);
   EXPECT_THROW(inject_faults(dir_.path() / "nothing", out(), {}), std::invalid_argument);
