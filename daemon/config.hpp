@@ -128,6 +128,7 @@ struct LcmConfig {
 struct HealthConfig {
   double sensor_timeout_s = 0.2;
   double degraded_to_lost_s = 3.0;
+  double lidar_silent_to_lost_s = 1.0;
   int good_scans_to_recover = 5;
   double min_inlier_ratio = 0.3;
   double min_degeneracy = 0.001;

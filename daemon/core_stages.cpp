@@ -148,7 +148,8 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
 // ---- registration -----------------------------------------------------------------
 
 CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans,
-                                             std::size_t threads, std::function<void(std::size_t)> on_helper_start)
+                                             double lidar_silent_to_reset_s, std::size_t threads,
+                                             std::function<void(std::size_t)> on_helper_start)
     : params_(params),
       min_scan_coverage_(scans.min_scan_coverage),
       assembler_(scans,
@@ -179,7 +180,8 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
       pool_(threads, std::move(on_helper_start)),
       registration_(params, steady_now_s, pool_),
       trajectory_(params.fuser.trajectory_capacity, params.fuser.speed_uncertainty),
-      prediction_(256, params.fuser.speed_uncertainty) {}
+      prediction_(256, params.fuser.speed_uncertainty),
+      lidar_silent_to_reset_s_(lidar_silent_to_reset_s) {}
 
 std::vector<std::string> CoreRegistrationStage::stage_names() const {
   return {"deskew", "downsample", "normals", "weights", "icp_matching", "icp_solve", "map_update"};
@@ -248,8 +250,18 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   }
   out.spin_rate_unmeasured = !out.imu_bridged && spin_rate_clipped(trajectory, out.t_s, t_end_s);
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
+  const double lidar_silent_s = out.t_s - previous_scan_end_s_;
   previous_scan_start_s_ = out.t_s;
-  if (lidar_gap_s > kLidarGapToCheck_s && newest_pose_) scans_to_check_ = kScansCheckedAfterLidarGap;
+  previous_scan_end_s_ = t_end_s;
+  if (lidar_silent_s > lidar_silent_to_reset_s_ && newest_pose_) {
+    reset_map(TrackingLoss::LidarSilent);
+    newest_pose_.reset();
+    previous_pose_.reset();
+    out.resets = resets_;
+    out.reset_reason = reset_reason_;
+  } else if (lidar_gap_s > kLidarGapToCheck_s && newest_pose_) {
+    scans_to_check_ = kScansCheckedAfterLidarGap;
+  }
   if (scans_to_check_ > 0 && !out.imu_bridged) {
     const double since_registered_s = out.t_s - newest_pose_->t_s;
     conditions.max_translation_m = kTranslationSlack_m + kVelocityError_m_s * since_registered_s;
@@ -313,11 +325,15 @@ void CoreRegistrationStage::keep_track(const ScanResult& result) {
     return;
   }
   if (++scans_lost_in_a_row_ < kScansToReset) return;
-  // The poses already published are kept; the next scan starts a new map at
-  // the fuser's pose, which carries on from them.
+  reset_map(result.rejected ? TrackingLoss::DisagreesWithImu : TrackingLoss::NotRegistered);
+}
+
+// The poses already published are kept; the next scan starts a new map at the
+// fuser's pose, which carries on from them.
+void CoreRegistrationStage::reset_map(TrackingLoss reason) {
   registration_.reset_map();
   ++resets_;
-  reset_reason_ = result.rejected ? TrackingLoss::DisagreesWithImu : TrackingLoss::NotRegistered;
+  reset_reason_ = reason;
   scans_lost_in_a_row_ = 0;
   scans_to_check_ = 0;
 }

@@ -15,6 +15,7 @@
 #include "core/imu_fuser.hpp"
 #include "core/scan_registration.hpp"
 #include "core/trajectory.hpp"
+#include "daemon/config.hpp"
 #include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "daemon/worker_pool.hpp"
@@ -56,6 +57,11 @@ class CoreFuserStage : public FuserStage {
 //   kLidarGapToCheck_s, a registration farther from the IMU-propagated pose
 //   than that pose can be wrong is `untrusted`: not registered, not in the
 //   map, not sent to the fuser.
+// - Lidar silent for longer than lidar_silent_to_reset_s: the IMU alone has
+//   carried the pose too far for a registration against the old map to be
+//   trusted (a 3 s restart mid-tumble: 15-280 cm/m, published as good). The
+//   next scan starts a new local map at the fuser's pose (a reset, counted,
+//   with its reason); the health machine reported lost meanwhile.
 // - Lost: kScansToReset scans in a row not registered or untrusted, and the
 //   stage gives up its local map (a reset, counted, with its reason); the next
 //   scan starts a new one at the fuser's pose, which continues the last one
@@ -70,7 +76,9 @@ class CoreRegistrationStage : public RegistrationStage {
  public:
   // threads: the registration thread plus threads − 1 helpers (WorkerPool),
   // each starting with on_helper_start(helper number).
-  CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans, std::size_t threads = 1,
+  // lidar_silent_to_reset_s: daemon.health.lidar_silent_to_lost_s.
+  CoreRegistrationStage(const OdometryParams& params, const rs16::ScanAssemblerConfig& scans,
+                        double lidar_silent_to_reset_s = HealthConfig{}.lidar_silent_to_lost_s, std::size_t threads = 1,
                         std::function<void(std::size_t)> on_helper_start = {});
 
   std::vector<std::string> stage_names() const override;
@@ -86,6 +94,7 @@ class CoreRegistrationStage : public RegistrationStage {
   void fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const;
   bool predict_from_registrations(double t_start_s, double t_end_s);
   void keep_track(const ScanResult& result);
+  void reset_map(TrackingLoss reason);
 
   struct Pose {
     double t_s = 0.0;
@@ -108,7 +117,9 @@ class CoreRegistrationStage : public RegistrationStage {
   Trajectory prediction_;             // for a scan the IMU did not cover
   std::optional<Pose> newest_pose_;   // the two newest registered (trusted) poses
   std::optional<Pose> previous_pose_;
+  double lidar_silent_to_reset_s_;
   double previous_scan_start_s_ = -1e300;
+  double previous_scan_end_s_ = -1e300;
   int scans_to_check_ = 0;            // after a lidar gap
   int scans_lost_in_a_row_ = 0;
   std::int32_t resets_ = 0;

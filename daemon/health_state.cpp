@@ -20,6 +20,7 @@ std::string_view to_string(HealthState state) {
 
 namespace {
 
+constexpr std::string_view kLidarSilent = "no lidar data for too long: the pose is the IMU's alone";
 constexpr std::string_view kSpinRateUnmeasured =
     "gyro clipped about the lidar's spin axis: that rotation is the registration's alone";
 
@@ -41,6 +42,8 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
     return {fresh ? S::Initialising : S::WaitingForSensors, "odometry re-initialising"};
   if (in.resets_in_period > 0 && (current == S::Initialising || current == S::Tracking || current == S::Degraded))
     return {S::Lost, in.reset_reason.empty() ? std::string_view("tracking lost") : in.reset_reason};
+  if ((current == S::Tracking || current == S::Degraded) && in.lidar_silent_s >= limits.lidar_silent_to_lost_s)
+    return {S::Lost, kLidarSilent};
   switch (current) {
     case S::WaitingForSensors:
       if (fresh) return {S::Initialising, "IMU and lidar data arriving"};

@@ -7,6 +7,8 @@
 //   DEGRADED --sensors fresh, nothing dropped, good_scans_to_recover
 //              consecutive good scans--> TRACKING
 //   DEGRADED --degraded for degraded_to_lost_s--> LOST
+//   TRACKING, DEGRADED --no lidar data for lidar_silent_to_lost_s--> LOST
+//              (the registration starts a new local map on the next scan)
 //   INITIALISING, TRACKING, DEGRADED --the registration gave up its local map
 //              (a reset, with its reason)--> LOST
 //   LOST --sensors fresh and a new local map started since--> INITIALISING
@@ -38,6 +40,7 @@ std::string_view to_string(HealthState state);  // waiting_for_sensors, initiali
 struct HealthInputs {
   bool imu_fresh = false;
   bool lidar_fresh = false;
+  double lidar_silent_s = 0.0;  // since the newest lidar data
   bool fuser_initialised = false;
   int bad_scans_in_period = 0;
   int spin_rate_unmeasured_scans_in_period = 0;  // gyro clipped about the lidar's spin axis (not good scans either)
@@ -51,6 +54,7 @@ struct HealthInputs {
 struct HealthLimits {
   double degraded_to_lost_s = 3.0;
   int good_scans_to_recover = 5;
+  double lidar_silent_to_lost_s = 1.0;
 };
 
 struct HealthTransition {

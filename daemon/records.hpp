@@ -50,6 +50,7 @@ enum class TrackingLoss : std::uint8_t {
   None = 0,
   NotRegistered,      // consecutive scans without enough matches
   DisagreesWithImu,   // consecutive registrations far from the IMU-propagated pose
+  LidarSilent,        // no scan for longer than daemon.health.lidar_silent_to_lost_s
 };
 constexpr std::string_view to_string(TrackingLoss loss) {
   switch (loss) {
@@ -59,6 +60,8 @@ constexpr std::string_view to_string(TrackingLoss loss) {
       return "scans not registered (too few matches)";
     case TrackingLoss::DisagreesWithImu:
       return "registrations disagree with the IMU-propagated pose";
+    case TrackingLoss::LidarSilent:
+      return "lidar silent too long: the IMU alone carried the pose";
   }
   return "unknown";
 }

@@ -21,7 +21,8 @@ PipelineParts make_sensor_parts(boost::asio::io_context& io, const DaemonConfig&
   parts.fuser = std::make_unique<CoreFuserStage>(params);
   const int nice = config.daemon.registration_nice;
   parts.registration = std::make_unique<CoreRegistrationStage>(
-      params, scan_assembler_config(config.lidar), static_cast<std::size_t>(config.daemon.registration_threads),
+      params, scan_assembler_config(config.lidar), config.daemon.health.lidar_silent_to_lost_s,
+      static_cast<std::size_t>(config.daemon.registration_threads),
       [nice](std::size_t helper) {
         const std::string name = "tumble-reg-" + std::to_string(helper);
         name_this_thread(name);

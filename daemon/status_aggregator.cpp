@@ -13,8 +13,10 @@ namespace {
 
 double seconds(std::int64_t ns) { return static_cast<double>(ns) * 1e-9; }
 
-bool fresh(std::int64_t last_ns, std::int64_t now_ns, double timeout_s) {
-  return last_ns != 0 && seconds(now_ns - last_ns) <= timeout_s;
+constexpr double kNeverHeard_s = std::numeric_limits<double>::infinity();
+
+double silent_s(std::int64_t last_ns, std::int64_t now_ns) {
+  return last_ns != 0 ? seconds(now_ns - last_ns) : kNeverHeard_s;
 }
 
 float rate(std::int64_t count_now, std::int64_t count_before, double period_s) {
@@ -80,11 +82,15 @@ std::uint64_t StatusAggregator::sensor_drops() const {
   return drops;
 }
 
-void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool lidar_fresh, bool fuser_initialised) {
+void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s,
+                                       bool fuser_initialised) {
   const std::uint64_t drops = sensor_drops();
   HealthInputs in;
-  in.imu_fresh = imu_fresh;
-  in.lidar_fresh = lidar_fresh;
+  in.imu_fresh = imu_silent_s <= health_.sensor_timeout_s;
+  in.lidar_fresh = lidar_silent_s <= health_.sensor_timeout_s;
+  in.lidar_silent_s = lidar_silent_s;
+  // Good scans before a silence say nothing of the pose after it.
+  if (!in.lidar_fresh) consecutive_good_scans_ = 0;
   in.fuser_initialised = fuser_initialised;
   in.bad_scans_in_period = bad_scans_in_period_;
   in.spin_rate_unmeasured_scans_in_period = spin_rate_unmeasured_scans_in_period_;
@@ -92,8 +98,11 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool
   in.data_dropped = drops != previous_drops_for_health_;
   in.resets_in_period = resets_in_period_;
   in.reset_reason = to_string(newest_reset_reason_);
+  // Lost without a reset (a silent lidar): the registration's reset comes later, with the next scan.
+  if (state_ == HealthState::Lost && resets_in_period_ > 0) lost_at_resets_ = resets_seen_;
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
-  const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover};
+  const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
+                            health_.lidar_silent_to_lost_s};
   const HealthTransition next =
       input_ended_ ? HealthTransition{state_, {}}
                    : next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
@@ -128,8 +137,8 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, bool imu_fresh, bool
 void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
   drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
   const PipelineCounters& c = counters_;
-  evaluate_health(now_steady_ns, fresh(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns, health_.sensor_timeout_s),
-                  fresh(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns, health_.sensor_timeout_s),
+  evaluate_health(now_steady_ns, silent_s(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
+                  silent_s(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
                   c.fuser_initialised.load(std::memory_order_relaxed));
   fill_message(now_steady_ns, utime, out);
 }
@@ -142,12 +151,11 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
     start_steady_ns_ = previous_steady_ns_ = state_since_steady_ns_ = now_ns;
   }
   drain_scan_reports(tick.scan_reports);
-  const auto sensor_fresh = [&](double newest_s) {
-    return newest_s >= 0.0 && tick.t_s - newest_s <= health_.sensor_timeout_s;
-  };
+  const auto sensor_silent_s = [&](double newest_s) { return newest_s >= 0.0 ? tick.t_s - newest_s : kNeverHeard_s; };
   // A reported scan was registered with the fuser's trajectory: the fuser is
   // initialised (its own flag changes at a moment no replay can reproduce).
-  evaluate_health(now_ns, sensor_fresh(tick.newest_imu_s), sensor_fresh(tick.newest_lidar_s), any_scan_reported_);
+  evaluate_health(now_ns, sensor_silent_s(tick.newest_imu_s), sensor_silent_s(tick.newest_lidar_s),
+                  any_scan_reported_);
 }
 
 void StatusAggregator::publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out) {

@@ -133,6 +133,23 @@ TEST(HealthState, AResetIsLostWithItsReasonThenANewMapInitialises) {
   EXPECT_EQ(next(S::WaitingForSensors, in), S::Initialising);
 }
 
+TEST(HealthState, ALidarSilentTooLongIsLostWithThatReason) {
+  const HealthLimits limits{3.0, 5, 1.0};
+  HealthInputs in = healthy();
+  in.lidar_fresh = false;
+  in.lidar_silent_s = 0.9;
+  EXPECT_EQ(next_health_state(S::Tracking, 0.0, in, limits).state, S::Degraded);
+  EXPECT_EQ(next_health_state(S::Degraded, 0.7, in, limits).state, S::Degraded);
+  in.lidar_silent_s = 1.0;
+  for (const S from : {S::Tracking, S::Degraded}) {
+    const HealthTransition t = next_health_state(from, 0.8, in, limits);
+    EXPECT_EQ(t.state, S::Lost);
+    EXPECT_EQ(t.reason, "no lidar data for too long: the pose is the IMU's alone");
+  }
+  EXPECT_EQ(next_health_state(S::Lost, 0.0, in, limits).state, S::Lost);
+  EXPECT_EQ(next_health_state(S::Initialising, 0.0, in, limits).state, S::WaitingForSensors);
+}
+
 TEST(HealthState, ReinitialisingTheOdometryLeavesLost) {
   HealthInputs in = healthy();
   in.fuser_initialised = false;

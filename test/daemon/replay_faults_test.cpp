@@ -119,6 +119,20 @@ TEST_F(ReplayFaults, ALidarGapIsReportedWithinASecondAndBridgedTheSameOnEveryRep
   EXPECT_EQ(second.states, first.states);
 }
 
+// A lidar restart: silent for 2 s from 3 s, then a new header clock. Past 1 s
+// of silence the IMU alone carried the pose too far to trust a match with the
+// old map: lost (not tracking on a drifted pose), then a new map and tracking.
+TEST_F(ReplayFaults, ALidarRestartIsLostWithinASecondThenANewMapTracks) {
+  const Replay replay = replay_with("lidar-restart", {"--lidar-gap", "3,2", "--lidar-clock-jump", "5,-50"});
+  const std::string states = ::testing::PrintToString(replay.states);
+  EXPECT_TRUE(contains(replay.states, "lost: no lidar data for too long: the pose is the IMU's alone (data time 4.0") ||
+              contains(replay.states, "lost: no lidar data for too long: the pose is the IMU's alone (data time 4.1"))
+      << states;
+  EXPECT_TRUE(contains(replay.states, "lost -> initialising: re-initialised: new local map (data time 5.")) << states;
+  EXPECT_TRUE(contains(replay.states, "initialising -> tracking: first scan registered (data time 5.")) << states;
+  EXPECT_FALSE(contains(replay.states, "lost -> tracking")) << "tracking again on the old map:\n" << states;
+}
+
 std::string contents(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

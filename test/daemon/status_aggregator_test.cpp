@@ -184,7 +184,8 @@ TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChang
   sensors_alive(6 * kSecond);
   aggregator_.tick(6 * kSecond, 0, status_);
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
-  aggregator_.tick(10 * kSecond, 0, status_);  // sensors silent, degraded for 4 s
+  counters_.last_lidar_steady_ns = 10 * kSecond;
+  aggregator_.tick(10 * kSecond, 0, status_);  // the IMU silent, degraded for 4 s
   EXPECT_EQ(aggregator_.state(), HealthState::Lost);
 
   EXPECT_EQ(log_lines(), 6);  // one per change, no more
@@ -307,6 +308,44 @@ TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   counters_.resets = 1;
   aggregator_.publish(0, 0, status_);
   EXPECT_EQ(status_.resets, 1);
+}
+
+// The registration resets only with the first scan after the silence, so
+// lost comes first and the reset follows while lost.
+TEST_F(StatusAggregatorTest, ALidarSilentTooLongIsLostThenTheNewMapInitialisesThenTracks) {
+  const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
+    RegistrationRecord r = registered_scan(good);
+    r.resets = resets;
+    r.reset_reason = resets > 0 ? TrackingLoss::LidarSilent : TrackingLoss::None;
+    r.map_initialised = map_initialised;
+    reports_.push(r);
+  };
+  const auto tick = [this](double newest_lidar_s) {
+    tick_s_ += 0.1;
+    aggregator_.evaluate(SensorTimeTick{tick_s_, tick_s_ - 0.01, newest_lidar_s, 0, reports_.pushed()});
+  };
+  scan(0, true, false);
+  for (int i = 0; i < 5; ++i) scan(0, false, true);
+  evaluate_next_tick();
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  const double silent_from_s = tick_s_;
+  for (int i = 0; i < 9; ++i) tick(silent_from_s);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);  // 0.9 s
+  tick(silent_from_s);
+  tick(silent_from_s);
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);  // 1.1 s
+  EXPECT_NE(log_.str().find("degraded -> lost: no lidar data for too long"), std::string::npos) << log_.str();
+  for (int i = 0; i < 20; ++i) tick(silent_from_s);
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);
+  evaluate_next_tick();  // lidar data again, no scan yet: the good scans before the silence do not count
+  EXPECT_EQ(aggregator_.state(), HealthState::Lost);
+  scan(1, true, false);  // the first scan after the silence starts a new map
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
+  scan(1, false, true);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
 }
 
 }  // namespace
