@@ -191,6 +191,7 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   } else {
     publish_status();  // the final counts
   }
+  spdlog::info("final status: {}", status.summary());
   publisher.stop();
   log_latency_summary(publisher, lossless);
   if (trajectory) {
