@@ -84,13 +84,17 @@ void SerialSource::open() {
     boost::system::error_code ignored;
     port_.close(ignored);
     ++failed_opens_;
+    ++failed_opens_in_a_row_;
     last_error_ = "cannot open " + options_.device + ": " + ec.message();
-    spdlog::warn("mti: {}; retrying in {:.2f} s", last_error_, backoff_s_);
+    // Said once, then every tenth try: an unplugged device is retried each second.
+    spdlog::log(failed_opens_in_a_row_ % 10 == 1 ? spdlog::level::warn : spdlog::level::debug,
+                "mti: {}; retrying in {:.2f} s ({} tries)", last_error_, backoff_s_, failed_opens_in_a_row_);
     schedule_reconnect();
     return;
   }
   connected_ = true;
   ++connects_;
+  failed_opens_in_a_row_ = 0;
   spdlog::info("mti: connected to {} at {} baud 8N1 ({})", options_.device, baud,
                options_.configurator.configure ? "configuring" : "read-only");
   stream_.restart();

@@ -25,8 +25,12 @@ struct SerialSourceOptions {
   ConfiguratorOptions configurator;  // baud, read-only or configure, rate, format, baud change
   double imu_time_offset_s = 0.0;
   TimeMapperOptions time_mapper;
-  double reconnect_min_s = 0.1;      // back-off doubles from here ...
-  double reconnect_max_s = 5.0;      // ... up to here, and resets once samples flow
+  // Back-off doubles from reconnect_min_s up to reconnect_max_s, and resets
+  // once samples flow. One open() a second costs nothing, and finds a
+  // replugged MTi within a second of its return (issue 13: recovered within
+  // 1 s of the data returning).
+  double reconnect_min_s = 0.1;
+  double reconnect_max_s = 1.0;
   double tick_s = 0.02;              // configurator retries and timeouts
 };
 
@@ -91,6 +95,7 @@ class SerialSource {
   std::uint64_t connects_ = 0;
   std::uint64_t disconnects_ = 0;
   std::uint64_t failed_opens_ = 0;
+  std::uint64_t failed_opens_in_a_row_ = 0;  // since the last successful open
   std::string last_error_;
   // Completion handlers outlive a destroyed source in the io_context queue;
   // they check this token before touching the source.

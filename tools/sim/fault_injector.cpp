@@ -14,7 +14,7 @@
 #include "drivers/pcap/udp_frame.hpp"
 #include "drivers/rs16/lidar_datagram.hpp"
 #include "drivers/rs16/packet_layout.hpp"
-#include "drivers/rs16/utc_time.hpp"
+#include "tools/sim/header_time.hpp"
 #include "tools/sim/pending_file.hpp"
 #include "tools/sim/run_writer.hpp"
 #include "tools/sim/sensor_rng.hpp"
@@ -79,20 +79,6 @@ bool in_window(std::int64_t t_ns, std::int64_t start_ns, const std::optional<Fau
 
 bool is_msop(const LidarRecord& r) { return r.kind == rs16::PacketKind::Msop; }
 
-// Moves the header time of an MSOP or DIFOP payload; false when it is not a
-// valid time (left as it was). The UDP checksum is not refreshed: the
-// recordings carry none (0), as IPv4 allows.
-bool shift_header_time(LidarRecord& r, double jump_s) {
-  const std::size_t offset = is_msop(r) ? rs16::kMsopTimeOffset : rs16::kDifopTimeOffset;
-  if (r.payload_size < offset + rs16::kUtcTimeSize) return false;
-  const std::span<std::uint8_t, rs16::kUtcTimeSize> field(r.frame.data() + r.payload_offset + offset,
-                                                         rs16::kUtcTimeSize);
-  const auto t_ns = rs16::decode_utc_time_ns(field);
-  if (!t_ns) return false;
-  rs16::encode_utc_time_ns(*t_ns + to_ns(jump_s), field);
-  return true;
-}
-
 // Each fault draws once per source MSOP packet from its own stream, so adding
 // one fault to a plan does not change which packets another one hits.
 struct MsopDraws {
@@ -149,7 +135,9 @@ std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t 
       ++counts.lidar_gap_dropped;
       continue;
     }
-    if (r.kind && plan.lidar_clock_jump && r.t_ns >= jump_ns && shift_header_time(r, plan.lidar_clock_jump->jump_s))
+    if (r.kind && plan.lidar_clock_jump && r.t_ns >= jump_ns &&
+        shift_header_time(std::span<std::uint8_t>(r.frame.data() + r.payload_offset, r.payload_size), is_msop(r),
+                          to_ns(plan.lidar_clock_jump->jump_s)))
       ++counts.lidar_clock_jumped;
     if (d && d->drop) {
       ++counts.lidar_dropped;

@@ -15,6 +15,12 @@
 
 namespace tumble::sim {
 
+// [at_s, at_s + duration_s) of run time.
+struct LiveOutage {
+  double at_s = 0.0;
+  double duration_s = 0.0;
+};
+
 struct LiveOptions {
   std::string host = "127.0.0.1";
   std::uint16_t msop_port = 6699;
@@ -26,6 +32,15 @@ struct LiveOptions {
   // Run time 0 is when the device first measures (a host configured it), so
   // a configuring host sees the run from its start; nothing is sent before.
   bool start_when_measuring = false;
+  // The lidar powers off for the outage and comes back with its header clock
+  // a day behind (a unit that lost its time source restarts from its RTC).
+  std::optional<LiveOutage> lidar_restart;
+  // The MTi is unplugged for the outage: the pty is closed, and a new one
+  // (a device at power-on) is made after it.
+  std::optional<LiveOutage> imu_unplug;
+  // A symbolic link to the pty, re-pointed at each new one, as udev keeps
+  // /dev/xsens; announced instead of the pty's own path. Empty: none.
+  std::string imu_link;
 };
 
 struct LiveSummary {
@@ -39,6 +54,8 @@ struct LiveSummary {
   std::uint64_t imu_baud_mismatch_bytes = 0;  // lost: host and device at different speeds
   std::uint64_t mti_requests = 0;       // frames the host sent the device
   std::uint64_t mti_errors_sent = 0;    // answered with Error (MID 0x42)
+  std::uint64_t lidar_restart_packets = 0;  // not sent: the lidar was off
+  std::uint64_t imu_unplugged_reads = 0;    // not sent: the MTi was unplugged
   std::uint64_t late_events = 0;        // sent more than 1 ms after their time
   double max_late_s = 0.0;              // the worst of them
   bool stopped = false;                 // ended by `stop`, not by the run's end
@@ -46,7 +63,7 @@ struct LiveSummary {
 
 // The pty behaves as an MTi-30 (mti_device.hpp): it answers the host's
 // configuration handshake and streams only while measuring.
-// Prints "imu-pty <slave path>" then "lidar-udp <host> <msop port> <difop port>"
+// Prints "imu-pty <slave path or imu_link>" then "lidar-udp <host> <msop port> <difop port>"
 // on `announce` before the first byte goes out. The lidar header clock is set
 // to the host's CLOCK_REALTIME at the run's start (a synced lidar at rate 1).
 // Throws LiveError / SimConfigError on bad options.

@@ -62,14 +62,17 @@ int command_live(const Scenario& scenario, const LiveOptions& options) {
   std::fprintf(stderr,
                "tumble-sim live: %s: %llu MSOP + %llu DIFOP packets (%llu send failures), %llu IMU bytes in %llu "
                "writes (%llu dropped: pty full), %llu events late by > 1 ms (worst %.1f ms); MTi: %llu requests, "
-               "%llu errors sent, %llu stream bytes held while not measuring, %llu bytes lost to a baud mismatch\n",
+               "%llu errors sent, %llu stream bytes held while not measuring, %llu bytes lost to a baud mismatch; "
+               "%llu MSOP/DIFOP not sent while the lidar restarted, %llu IMU reads not sent while unplugged\n",
                s.stopped ? "stopped" : "done", static_cast<unsigned long long>(s.msop_packets),
                static_cast<unsigned long long>(s.difop_packets), static_cast<unsigned long long>(s.udp_send_failures),
                static_cast<unsigned long long>(s.imu_bytes), static_cast<unsigned long long>(s.imu_reads),
                static_cast<unsigned long long>(s.imu_bytes_dropped), static_cast<unsigned long long>(s.late_events),
                s.max_late_s * 1e3, static_cast<unsigned long long>(s.mti_requests),
                static_cast<unsigned long long>(s.mti_errors_sent), static_cast<unsigned long long>(s.imu_bytes_held),
-               static_cast<unsigned long long>(s.imu_baud_mismatch_bytes));
+               static_cast<unsigned long long>(s.imu_baud_mismatch_bytes),
+               static_cast<unsigned long long>(s.lidar_restart_packets),
+               static_cast<unsigned long long>(s.imu_unplugged_reads));
   return 0;
 }
 
@@ -162,6 +165,13 @@ int main(int argc, char** argv) {
                  "start the run when the MTi first measures (with --mti-start config: once the host configured it)");
   live->add_option("--mti-refuse", mti_refuse,
                    "MID:CODE, e.g. C0:33: answer this request (hex MID) with Error 0x42 and this code");
+  std::string lidar_restart, imu_unplug;
+  CLI::Option* lidar_restart_option = live->add_option(
+      "--lidar-restart", lidar_restart, "T,D: the lidar is off for D s from T s, then its header clock is a day behind");
+  CLI::Option* imu_unplug_option = live->add_option(
+      "--imu-unplug", imu_unplug, "T,D: the MTi is unplugged for D s from T s (the pty closed, then a new one)");
+  live->add_option("--imu-link", live_options.imu_link,
+                   "PATH: a symbolic link to the pty, re-pointed at each new one (announced instead of the pty)");
   FaultPlan fault_plan;
   std::string fault_run_dir, lidar_gap, imu_gap, clock_jump;
   CLI::App* faults = app.add_subcommand("faults", "rewrite a run folder with lidar and IMU faults (faults.yaml says which)");
@@ -210,6 +220,12 @@ int main(int argc, char** argv) {
       if (live_duration->count() > 0) live_options.duration_s = live_duration_s;
       live_options.mti.start = *parse_mti_start_state(mti_start);
       if (!mti_refuse.empty()) parse_refusal(mti_refuse, live_options.mti);
+      const auto outage = [](const char* option, const std::string& text) {
+        const FaultWindow w = parse_fault_window(option, text);
+        return LiveOutage{w.start_s, w.duration_s};
+      };
+      if (lidar_restart_option->count() > 0) live_options.lidar_restart = outage("--lidar-restart", lidar_restart);
+      if (imu_unplug_option->count() > 0) live_options.imu_unplug = outage("--imu-unplug", imu_unplug);
       return command_live(scenario_from(scenario_path, live_seed, seed), live_options);
     }
   } catch (const std::exception& e) {
