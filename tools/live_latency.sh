@@ -9,16 +9,10 @@
 # The figures depend on the machine's load: the simulator itself needs about
 # a core to ray-cast in real time.
 set -euo pipefail
-[ $# -ge 1 ] || { echo "usage: $0 BUILD_DIR [SCENARIO] [tumbled options]" >&2; exit 2; }
-build=$(readlink -f "$1"); shift
 root=$(cd "$(dirname "$(readlink -f "$0")")/.." && pwd)
-scenario=$root/tools/sim/scenarios/default.yaml
-if [ $# -ge 1 ] && [ "${1#-}" = "$1" ]; then scenario=$1; shift; fi
-work=$(mktemp -d)
 # shellcheck source=tools/live_session.sh
 . "$root/tools/live_session.sh"
-trap 'kill_live_session; rm -rf "$work"' EXIT
-start_live_session "$@"
+begin_live_session "$root/tools/sim/scenarios/default.yaml" "$@"
 stop_tumbled
 grep -E "warn|error|latency over the run" "$work/tumbled.err" | sed 's/^\[[^]]*\] //'
 echo "tumbled peak RSS: $peak_rss"

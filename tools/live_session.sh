@@ -1,10 +1,24 @@
 # Sourced by tools/live_latency.sh and tools/soak.sh: tumble-sim streams a
 # scenario in real time (lidar to 127.0.0.1, IMU bytes into a pty) and
 # tumbled runs live against it, publishing on memq:// (nothing leaves the
-# process). Callers set build, scenario and work (a temporary folder), call
-# start_live_session [tumbled options], wait for "$sim_pid", then
-# stop_tumbled; kill_live_session runs on exit.
+# process). Callers call begin_live_session DEFAULT_SCENARIO "$@" (their own
+# BUILD_DIR [SCENARIO] [tumbled options]), wait for "$sim_pid" if they like,
+# then stop_tumbled. Sets build, scenario, work (a temporary folder, removed
+# on exit), sim_pid, tumbled_pid and, after stop_tumbled, peak_rss.
 sim_pid="" tumbled_pid=""
+
+begin_live_session() {
+  local default_scenario=$1
+  shift
+  [ $# -ge 1 ] || { echo "usage: $0 BUILD_DIR [SCENARIO] [tumbled options]" >&2; exit 2; }
+  build=$(readlink -f "$1")
+  shift
+  scenario=$default_scenario
+  if [ $# -ge 1 ] && [ "${1#-}" = "$1" ]; then scenario=$1; shift; fi
+  work=$(mktemp -d)
+  trap 'kill_live_session; rm -rf "$work"' EXIT
+  start_live_session "$@"
+}
 
 kill_live_session() {
   for pid in $tumbled_pid $sim_pid; do kill "$pid" 2>/dev/null || true; done

@@ -69,6 +69,15 @@ class StatusAggregatorTest : public ::testing::Test {
     return r;
   }
 
+  // A registered scan after `resets` resets of the local map (for `reason`), maybe the first of a new one.
+  void report_map_scan(std::int32_t resets, TrackingLoss reason, bool map_initialised, bool good) {
+    RegistrationRecord r = registered_scan(good);
+    r.resets = resets;
+    r.reset_reason = resets > 0 ? reason : TrackingLoss::None;
+    r.map_initialised = map_initialised;
+    reports_.push(r);
+  }
+
   // The next health tick on sensor time, 0.1 s of data after the previous one.
   void evaluate_next_tick() {
     tick_s_ += 0.1;
@@ -279,11 +288,7 @@ TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted)
 
 TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
-    RegistrationRecord r = registered_scan(good);
-    r.resets = resets;
-    r.reset_reason = resets > 0 ? TrackingLoss::DisagreesWithImu : TrackingLoss::None;
-    r.map_initialised = map_initialised;
-    reports_.push(r);
+    report_map_scan(resets, TrackingLoss::DisagreesWithImu, map_initialised, good);
   };
   scan(0, true, false);
   scan(0, false, true);
@@ -314,11 +319,7 @@ TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
 // lost comes first and the reset follows while lost.
 TEST_F(StatusAggregatorTest, ALidarSilentTooLongIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
-    RegistrationRecord r = registered_scan(good);
-    r.resets = resets;
-    r.reset_reason = resets > 0 ? TrackingLoss::LidarSilent : TrackingLoss::None;
-    r.map_initialised = map_initialised;
-    reports_.push(r);
+    report_map_scan(resets, TrackingLoss::LidarSilent, map_initialised, good);
   };
   const auto tick = [this](double newest_lidar_s) {
     tick_s_ += 0.1;
