@@ -9,16 +9,10 @@
 # cores (the simulator ray-casts in real time).
 #   tools/soak.sh BUILD_DIR [SCENARIO] [tumbled options]
 set -euo pipefail
-[ $# -ge 1 ] || { echo "usage: $0 BUILD_DIR [SCENARIO] [tumbled options]" >&2; exit 2; }
-build=$(readlink -f "$1"); shift
 root=$(cd "$(dirname "$(readlink -f "$0")")/.." && pwd)
-scenario=$root/tools/sim/scenarios/soak.yaml
-if [ $# -ge 1 ] && [ "${1#-}" = "$1" ]; then scenario=$1; shift; fi
-work=$(mktemp -d)
 # shellcheck source=tools/live_session.sh
 . "$root/tools/live_session.sh"
-trap 'kill_live_session; rm -rf "$work"' EXIT
-start_live_session "$@"
+begin_live_session "$root/tools/sim/scenarios/soak.yaml" "$@"
 start=$(date +%s)
 while kill -0 "$sim_pid" 2>/dev/null; do
   rss_kb=$(sed -n 's/^VmRSS:\s*\([0-9]*\) kB/\1/p' "/proc/$tumbled_pid/status" 2>/dev/null || true)
