@@ -42,8 +42,11 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
   stage_ms_.resize(stage_names_.size());
 }
 
+// A registration not used (untrusted: far from the IMU-propagated pose) may
+// have converged well: it is still no evidence that tracking holds.
 bool StatusAggregator::is_good(const RegistrationRecord& r) const {
-  return r.converged && r.inlier_ratio >= health_.min_inlier_ratio && r.degeneracy >= health_.min_degeneracy;
+  return r.registered && r.converged && r.inlier_ratio >= health_.min_inlier_ratio &&
+         r.degeneracy >= health_.min_degeneracy;
 }
 
 void StatusAggregator::drain_scan_reports(std::uint64_t until) {

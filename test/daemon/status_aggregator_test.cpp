@@ -50,6 +50,7 @@ class StatusAggregatorTest : public ::testing::Test {
 
   void report_scan(bool good, float icp_ms) {
     RegistrationRecord r;
+    r.registered = true;
     r.converged = good;
     r.inlier_ratio = 0.6f;
     r.degeneracy = 0.5f;
@@ -313,6 +314,26 @@ TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   counters_.resets = 1;
   aggregator_.publish(0, 0, status_);
   EXPECT_EQ(status_.resets, 1);
+}
+
+// After a lidar gap the registration checks scans against the IMU-propagated
+// pose; one it does not trust may have converged well, and is still no
+// reason to report tracking (cage3 of the fault table did, for 0.1 s, before
+// three such scans gave up the map).
+TEST_F(StatusAggregatorTest, AnUntrustedRegistrationIsNotAGoodScan) {
+  reports_.push(registered_scan(true));
+  evaluate_next_tick();
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  RegistrationRecord untrusted = registered_scan(true);
+  untrusted.registered = false;
+  untrusted.untrusted = true;
+  for (int i = 0; i < 5; ++i) reports_.push(untrusted);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  for (int i = 0; i < 5; ++i) reports_.push(untrusted);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);  // five converged, none trusted: not recovered
 }
 
 // The registration resets only with the first scan after the silence, so
