@@ -219,8 +219,10 @@ bool Pipeline::fuser_may_add(double t_s, double previous_t_s) const {
   if (t_s < newest_point) return true;
   if (lidar_input_ended_.load(std::memory_order_acquire) && lidar_.empty()) return true;
   // The io thread waits for room in the IMU ring, so no lidar data can come
-  // before this sample goes: a lidar gap, in which no scan ends.
-  return io_blocked_on_imu_.load(std::memory_order_acquire) && imu_.full();
+  // before this sample goes, and the registration thread has taken all that
+  // came: a lidar gap, in which no scan ends.
+  return io_blocked_on_imu_.load(std::memory_order_acquire) && imu_.full() &&
+         lidar_popped_.load(std::memory_order_acquire) == lidar_.pushed();
 }
 
 void Pipeline::run_fuser() {
@@ -231,19 +233,29 @@ void Pipeline::run_fuser() {
   double previous_t_s = -std::numeric_limits<double>::infinity();
   RegistrationRecord correction;
   TrajectoryRecord fused;
-  for (;;) {
-    fuser_heartbeat_.fetch_add(1, std::memory_order_relaxed);
-    const int stop = fuser_stop_.load(std::memory_order_acquire);
-    if (stop == 2) break;
-    bool worked = false;
+  const auto apply_corrections = [&] {
+    bool applied = false;
     while (corrections_.pop(correction)) {
       fuser.add_correction(correction, republish_);
       corrections_applied_.fetch_add(1, std::memory_order_acq_rel);
       registration_wakeup_.notify();
-      worked = true;
+      applied = true;
     }
+    return applied;
+  };
+  for (;;) {
+    fuser_heartbeat_.fetch_add(1, std::memory_order_relaxed);
+    const int stop = fuser_stop_.load(std::memory_order_acquire);
+    if (stop == 2) break;
+    bool worked = apply_corrections();
     if (!have_sample) have_sample = imu_.pop(arrival);
     const bool may_add = have_sample && fuser_may_add(sample.t_s, previous_t_s);
+    // The registration pushes a scan's correction before it opens the gate
+    // (held_scan_end_s_ back to infinity): a gate seen open may have a
+    // correction behind it, which must come before the sample. Applied after
+    // it instead, the correction re-propagated a sample that depended on
+    // timing, and replays differed in the last bits (then in metres).
+    if (may_add) worked = apply_corrections() || worked;
     if (have_sample && !may_add && policy_ == OverflowPolicy::Wait) {
       const double held_end = held_scan_end_s_.load(std::memory_order_acquire);
       if (previous_t_s < held_end && sample.t_s > held_end + trajectory_wait_s_ &&
@@ -282,13 +294,15 @@ void Pipeline::run_fuser() {
     const bool lidar_ended = lidar_input_ended_.load(std::memory_order_acquire);
     const bool lidar_empty = lidar_.empty();
     const bool io_blocked = io_blocked_on_imu_.load(std::memory_order_acquire);
+    const std::uint64_t lidar_popped = lidar_popped_.load(std::memory_order_acquire);
     fuser_wakeup_.wait(kIdleWait, [&] {
       return (!have_sample && !imu_.empty()) || !corrections_.empty() ||
              fuser_stop_.load(std::memory_order_acquire) != stop ||
              held_scan_end_s_.load(std::memory_order_acquire) != held_end ||
              newest_point_s_.load(std::memory_order_acquire) != newest_point ||
              lidar_input_ended_.load(std::memory_order_acquire) != lidar_ended || lidar_.empty() != lidar_empty ||
-             io_blocked_on_imu_.load(std::memory_order_acquire) != io_blocked;
+             io_blocked_on_imu_.load(std::memory_order_acquire) != io_blocked ||
+             lidar_popped_.load(std::memory_order_acquire) != lidar_popped;
     });
   }
   fuser_finished_.store(true, std::memory_order_release);
@@ -337,13 +351,12 @@ void Pipeline::run_registration() {
     if (stop == 2) break;
     if (!holding) {
       forward_health_ticks();
-      double block_end_s = 0.0;
+      double block_end_s = -std::numeric_limits<double>::infinity();
       const bool got = lidar_.pop_with([&](const PointBlock& block) {
         holding = stage.add_points(block);
         const auto points = block.all_points();
-        block_end_s = points.empty() ? block.t_s : points.back().t_s;
+        if (!points.empty()) block_end_s = points.back().t_s;
       });
-      if (got) ++lidar_popped_;
       if (!got) {
         if (sensor_time_ && input_ended_.load(std::memory_order_acquire) && lidar_.empty() && ticks_in_.empty() &&
             !pending_tick_ && !health_ticks_complete_.load(std::memory_order_relaxed)) {
@@ -371,6 +384,7 @@ void Pipeline::run_registration() {
       if (holding) held_scan_end_s_.store(stage.held_scan_span().end_s, std::memory_order_release);
       if (block_end_s > newest_point_s_.load(std::memory_order_relaxed))
         newest_point_s_.store(block_end_s, std::memory_order_release);
+      lidar_popped_.fetch_add(1, std::memory_order_acq_rel);
       fuser_wakeup_.notify();
       if (!holding) continue;
       complete_ns = steady_now_ns();
@@ -482,7 +496,7 @@ void Pipeline::forward_health_ticks() {
     }
     // Not before this thread took every lidar item pushed before the tick
     // (and, being called only between scans, registered what they completed).
-    if (pending_tick_->lidar_items > lidar_popped_ + lidar_.dropped()) return;
+    if (pending_tick_->lidar_items > lidar_popped_.load(std::memory_order_relaxed) + lidar_.dropped()) return;
     pending_tick_->scan_reports = scan_reports_.pushed();
     push_health(health_ticks_, *pending_tick_);
     pending_tick_.reset();

@@ -197,7 +197,7 @@ class Pipeline {
   RegistrationRecord registration_out_;
   std::uint64_t corrections_pushed_ = 0;
   std::int64_t correction_pushed_steady_ns_ = 0;  // registration thread: when the newest was pushed
-  std::uint64_t lidar_popped_ = 0;
+  std::atomic<std::uint64_t> lidar_popped_{0};  // blocks taken, each after the gate below was updated for it
   std::optional<SensorTimeTick> pending_tick_;
   std::atomic<bool> health_ticks_complete_{false};
   std::atomic<bool> health_unwatched_{false};
@@ -207,7 +207,9 @@ class Pipeline {
   std::atomic<double> fuser_past_scan_end_s_{-std::numeric_limits<double>::infinity()};
   // The fuser's step gate (OverflowPolicy::Wait): the end of the complete scan
   // not yet registered (+inf: none), and the newest lidar point seen (+inf: no
-  // more lidar data).
+  // more lidar data). A point, not a packet: packets without points (the
+  // lidar facing the sky) do not move a scan's end, so a scan completed later
+  // may end before them.
   std::atomic<double> held_scan_end_s_{std::numeric_limits<double>::infinity()};
   std::atomic<double> newest_point_s_{-std::numeric_limits<double>::infinity()};
 

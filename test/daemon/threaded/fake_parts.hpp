@@ -124,6 +124,9 @@ class FakeRecording {
 
 class FakeLidarDecoder : public LidarDecoder {
  public:
+  // Packets from this one on in each scan carry no points (the lidar facing the sky).
+  int pointless_from_packet = kPacketsPerScan;
+
   bool decode(const LidarDatagram& d, PointBlock& block) override {
     ++packets_;
     double first_point_s = 0.0;
@@ -133,8 +136,8 @@ class FakeLidarDecoder : public LidarDecoder {
     block.t_s = first_point_s;
     block.block_count = 1;
     block.block_begin[0] = 0;
-    block.block_begin[1] = kPointsPerPacket;
-    for (int i = 0; i < kPointsPerPacket; ++i) {
+    block.block_begin[1] = static_cast<int>(ids[1]) < pointless_from_packet ? kPointsPerPacket : 0;
+    for (int i = 0; i < block.block_begin[1]; ++i) {
       LidarPoint& p = block.points[static_cast<std::size_t>(i)];
       p.t_s = first_point_s + i * (kScanS / kPacketsPerScan / kPointsPerPacket);
       p.x_m = static_cast<float>(ids[0]);  // scan index
@@ -177,17 +180,22 @@ class FakeFuser : public FuserStage {
     out.p_w_m = {sample.t_s, 0.0, 0.0};
     out.v_w_m_s = {1.0, 0.0, 0.0};
     out.lidar_corrected = corrections_ > 0;
+    newest_s_ = sample.t_s;
     return true;
   }
   void add_correction(const RegistrationRecord&, const std::function<void(const TrajectoryRecord&)>&) override {
+    newest_at_correction_s.push_back(newest_s_);
     if (correction_delay.count() > 0) std::this_thread::sleep_for(correction_delay);
     corrections_.fetch_add(1, std::memory_order_release);
   }
   int corrections() const { return corrections_.load(std::memory_order_acquire); }
   const std::atomic<int>& corrections_counter() const { return corrections_; }
 
+  std::vector<double> newest_at_correction_s;  // the newest sample added when each correction came
+
  private:
   int samples_ = 0;
+  double newest_s_ = -1.0;
   std::atomic<int> corrections_{0};
 };
 
@@ -202,6 +210,7 @@ class FakeRegistration : public RegistrationStage {
   std::vector<std::string> stage_names() const override { return {"assemble", "icp"}; }
 
   bool add_points(const PointBlock& block) override {
+    if (block.all_points().empty()) return !held_.empty();
     const auto scan = static_cast<std::int64_t>(block.points[0].x_m);
     if (!current_.empty() && scan != current_index_) {
       held_ = std::move(current_);
@@ -254,13 +263,16 @@ struct FakeParts {
   PipelineParts parts;
   FakeFuser* fuser;
   FakeRegistration* registration;
+  FakeLidarDecoder* lidar_decoder;
 };
 
 inline FakeParts make_parts(FakeRecording& recording) {
   FakeParts f;
   f.parts.lidar_source = recording.lidar_source();
   f.parts.imu_source = recording.imu_source();
-  f.parts.lidar_decoder = std::make_unique<FakeLidarDecoder>();
+  auto lidar_decoder = std::make_unique<FakeLidarDecoder>();
+  f.lidar_decoder = lidar_decoder.get();
+  f.parts.lidar_decoder = std::move(lidar_decoder);
   f.parts.imu_decoder = std::make_unique<FakeImuDecoder>();
   auto fuser = std::make_unique<FakeFuser>();
   auto registration = std::make_unique<FakeRegistration>();

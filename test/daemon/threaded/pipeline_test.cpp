@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <future>
 #include <lcm/lcm-cpp.hpp>
 #include <string>
@@ -50,13 +51,15 @@ struct ReplayResult {
   std::int64_t imu_samples = 0;
   std::int64_t gyro_z_saturated = 0;
   int corrections = 0;
+  std::vector<double> newest_at_correction_s;
   std::vector<tumble::registration_t> poses;
   std::vector<tumble::scan_t> scans;
 };
 
 // Replays a fake recording to its end and drains, as tumbled --replay does.
 ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy,
-                    int fuser_samples_before_initialised = fake::kImuSamplesBeforeInitialised) {
+                    int fuser_samples_before_initialised = fake::kImuSamplesBeforeInitialised,
+                    int pointless_from_packet = fake::kPacketsPerScan) {
   lcm::LCM lcm("memq://");
   Inbox<tumble::registration_t> poses;
   Inbox<tumble::scan_t> viewer_scans;
@@ -68,6 +71,7 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
     fake::FakeRecording recording(pipeline.io_context(), scans);
     fake::FakeParts f = fake::make_parts(recording);
     f.fuser->samples_before_initialised = fuser_samples_before_initialised;
+    f.lidar_decoder->pointless_from_packet = pointless_from_packet;
     Collector collector;
     LcmPublisher publisher(lcm, LcmChannels::with_prefix("T_"), pipeline.publisher_inputs(), {"assemble", "icp"},
                            pipeline.output_wakeup());
@@ -92,6 +96,7 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
     result.imu_samples = c.imu_samples;
     result.gyro_z_saturated = c.gyro_saturated_samples[2];
     result.corrections = f.fuser->corrections();
+    result.newest_at_correction_s = f.fuser->newest_at_correction_s;
   }
   while (lcm.handleTimeout(0) > 0) {
   }
@@ -178,6 +183,30 @@ TEST(Pipeline, AScanThatEndedBeforeTheFuserInitialisedIsNeverRegistered) {
     const ReplayResult r = replay(4, small_rings(), OverflowPolicy::Wait, kSamplesBeforeInitialised);
     ASSERT_EQ(r.registrations.size(), 2u) << "replay " << replay_number;
     EXPECT_EQ(r.registrations[0].scan_index, 1) << "replay " << replay_number;
+  }
+}
+
+// Packets without points (the lidar facing the sky) end each scan here: a
+// scan's end is its last point, 2 packets before the packet that completes
+// it. The fuser may not run past that end (but for the one sample the
+// trajectory needs) before the scan's correction, however far the
+// registration thread has read: the gate went by packet times, so how many
+// samples came before the correction was thread timing, and replays of a
+// cage run that looked at the sky at the end of its scans differed.
+TEST(Pipeline, TheFuserStopsAtAScansLastPointNotItsLastPacket) {
+  constexpr int kScans = 8, kPointlessFrom = fake::kPacketsPerScan - 2;
+  const double point_step_s = fake::kScanS / fake::kPacketsPerScan / fake::kPointsPerPacket;
+  for (int replay_number = 0; replay_number < 5; ++replay_number) {
+    const ReplayResult r =
+        replay(kScans, small_rings(), OverflowPolicy::Wait, fake::kImuSamplesBeforeInitialised, kPointlessFrom);
+    ASSERT_EQ(r.registrations.size(), static_cast<std::size_t>(kScans - 1));
+    ASSERT_EQ(r.newest_at_correction_s.size(), r.registrations.size());
+    for (std::size_t k = 0; k < r.registrations.size(); ++k) {
+      const double last_point_s = static_cast<double>(k) * fake::kScanS +
+                                  kPointlessFrom * (fake::kScanS / fake::kPacketsPerScan) - point_step_s;
+      const double first_sample_after_s = std::ceil(last_point_s / fake::kImuPeriodS - 1e-9) * fake::kImuPeriodS;
+      EXPECT_NEAR(r.newest_at_correction_s[k], first_sample_after_s, 1e-9) << "replay " << replay_number << " scan " << k;
+    }
   }
 }
 
