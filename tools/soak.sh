@@ -27,6 +27,7 @@ awk '$1 >= 120 { n++; sx += $1; sy += $2; sxx += $1 * $1; sxy += $1 * $2 }
            printf "RSS after 2 min: %d samples, %.1f to %.1f MiB, slope %+.3f MiB/min\n",
                   n, first / 1024, last / 1024, slope * 60 / 1024 }
      $1 >= 120 { if (!first) first = $2; last = $2 }' "$work/rss.txt"
+echo "RSS per minute (MiB): $(awk '$1 % 60 < 10 { printf "%.0f ", $2 / 1024 }' "$work/rss.txt")"
 echo "state changes:"
 grep -E "state [a-z_]+( -> [a-z_]+)?: " "$work/tumbled.err" | sed 's/^\[[^]]*\] /  /' || echo "  none"
 grep -E "final status|latency over the run" "$work/tumbled.err" | sed 's/^\[[^]]*\] //'
