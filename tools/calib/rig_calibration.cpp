@@ -11,12 +11,13 @@ namespace tumble::calib {
 namespace {
 
 constexpr double kCoarseStepS = 0.001;
-constexpr double kFirstFineHalfWidthS = 0.005;
-constexpr double kFirstFineStepS = 0.0005;
-constexpr double kFineHalfWidthS = 0.001;
-constexpr double kFineStepS = 0.0001;
+// Each pass searches the offset around the last estimate in two grids.
+constexpr double kFineHalfWidthS = 0.008;
+constexpr double kFineStepS = 0.0005;
+constexpr double kFinerHalfWidthS = 0.0006;
+constexpr double kFinerStepS = 0.0001;
 constexpr std::size_t kMinIncrements = 50;
-constexpr int kMaxDeskewedPasses = 4;
+constexpr int kMaxDeskewedPasses = 5;
 constexpr double kSettledOffsetS = 0.0001;
 constexpr double kSettledRotationDeg = 0.02;
 // Pass 1 ends when the lidar's scan-to-scan rotation and the gyro's differ
@@ -54,6 +55,7 @@ RigPass evaluate_pass(const std::string& name, std::span<const ScanPose> poses, 
     throw RigError(why.str());
   }
   pass.offset = fine_time_offset(lidar, imu, centre_s, half_width_s, step_s);
+  pass.offset = fine_time_offset(lidar, imu, pass.offset.offset_s, kFinerHalfWidthS, kFinerStepS);
   pass.rotation = align_rotation_increments(rotation_increments(lidar, imu, pass.offset.offset_s));
   return pass;
 }
@@ -136,7 +138,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
             << coarse.offset_s << " s, rate correlation " << coarse.score << ")";
         throw RigError(why.str());
       }
-      pass = evaluate_pass(name, poses, imu, coarse.offset_s, kFirstFineHalfWidthS, kFirstFineStepS);
+      pass = evaluate_pass(name, poses, imu, coarse.offset_s, kFineHalfWidthS, kFineStepS);
     } else {
       pass = evaluate_pass(name, poses, imu, gyro.timing.offset_s, kFineHalfWidthS, kFineStepS);
     }
