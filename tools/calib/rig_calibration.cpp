@@ -17,7 +17,6 @@ constexpr double kFineStepS = 0.0005;
 constexpr double kFinerHalfWidthS = 0.0006;
 constexpr double kFinerStepS = 0.0001;
 constexpr std::size_t kMinIncrements = 50;
-constexpr int kMaxDeskewedPasses = 5;
 constexpr double kSettledOffsetS = 0.0001;
 constexpr double kSettledRotationDeg = 0.02;
 // Pass 1 ends when the lidar's scan-to-scan rotation and the gyro's differ
@@ -96,7 +95,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
     }
     return disagreements >= kBootstrapStopAfter;
   };
-  std::vector<ScanPose> poses = register_rig_scans(dir / "lidar.pcap", imu, std::nullopt, params, diverging);
+  std::vector<ScanPose> poses = register_rig_scans(dir / "lidar.pcap", imu, std::nullopt, params, {}, diverging);
   if (disagreements >= kBootstrapStopAfter) poses.resize(poses.size() - kBootstrapStopAfter);
   const std::vector<LidarRotation> lidar1 = lidar_rotations(poses);
   {
@@ -123,11 +122,11 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   out.passes.push_back(pass);
 
   // De-skewed passes, until the estimate settles.
-  for (int i = 0; i < kMaxDeskewedPasses; ++i) {
+  for (int i = 0; i < options.max_deskewed_passes; ++i) {
     const RigPass& previous = out.passes.back();
     const GyroModel gyro{previous.rotation.R_li, GyroTiming{.offset_s = previous.offset.offset_s,
                                                             .bias_rad_s = previous.rotation.gyro_bias_rad_s}};
-    poses = register_rig_scans(dir / "lidar.pcap", imu, gyro, params);
+    poses = register_rig_scans(dir / "lidar.pcap", imu, gyro, params, poses);
     const std::string name = "pass " + std::to_string(i + 2) + " (gyro de-skew)";
     if (i == 0) {
       const TimeOffsetEstimate coarse =

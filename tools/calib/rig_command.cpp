@@ -26,6 +26,9 @@ int run_rig_command(int argc, char** argv) {
       ->check(CLI::Range(9600u, 4000000u));
   app.add_option("--max-offset-s", options.max_offset_s, "search the time offset within +-this (default 0.3)")
       ->check(CLI::Range(0.01, 1.0));
+  app.add_option("--max-passes", options.max_deskewed_passes,
+                 "de-skewed registration passes at most; they end when the estimate settles (default 5)")
+      ->check(CLI::Range(1, 20));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

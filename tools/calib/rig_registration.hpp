@@ -48,6 +48,6 @@ using StopCheck = std::function<bool(const std::vector<ScanPose>&)>;
 // Throws InputError when the lidar recording is unusable (run_inputs.hpp).
 std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap, std::span<const ImuSample> imu,
                                          const std::optional<GyroModel>& gyro, const OdometryParams& params,
-                                         const StopCheck& stop = {});
+                                         std::span<const ScanPose> previous = {}, const StopCheck& stop = {});
 
 }  // namespace tumble::calib
