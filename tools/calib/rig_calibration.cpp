@@ -10,6 +10,8 @@
 namespace tumble::calib {
 namespace {
 
+// Earth's gravity varies by ±0.03 m/s² with place: within the check's 0.05.
+constexpr double kStandardGravity_m_s2 = 9.80665;
 constexpr double kCoarseStepS = 0.001;
 // Each pass searches the offset around the last estimate in two grids.
 constexpr double kFineHalfWidthS = 0.008;
@@ -23,7 +25,7 @@ constexpr double kSettledRotationDeg = 0.02;
 // in magnitude by more than this, this many times in a row.
 constexpr double kBootstrapMismatchRad = 0.03;
 constexpr std::size_t kBootstrapStopAfter = 3;
-constexpr double kBootstrapMinWeakestAxisDeg = 0.5;
+constexpr double kBootstrapMinWeakestAxisDeg = 0.1;
 
 Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -88,9 +90,11 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   const auto diverging = [&](const std::vector<ScanPose>& poses) {
     const std::vector<LidarRotation> last = lidar_rotations(std::span(poses).last(std::min<std::size_t>(2, poses.size())));
     if (last.empty()) {
+
       disagreements = poses.back().registered ? disagreements : disagreements + 1;
     } else {
       const double gyro_rad = rotation_increments(last, imu, 0.0).front().gyro_rad.norm();
+
       disagreements = std::abs(last.front().rotation_rad.norm() - gyro_rad) > kBootstrapMismatchRad ? disagreements + 1 : 0;
     }
     return disagreements >= kBootstrapStopAfter;
@@ -154,7 +158,9 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   const GyroModel final_gyro{out.rotation.R_li,
                              GyroTiming{.offset_s = out.offset.offset_s, .bias_rad_s = out.rotation.gyro_bias_rad_s}};
   out.lever_arm = estimate_lever_arm(poses, imu, final_gyro);
-  out.lever_arm_observable = out.lever_arm.solved && out.lever_arm.sigma_m.maxCoeff() <= options.max_lever_arm_sigma_m;
+  out.lever_arm_observable = out.lever_arm.solved &&
+                             out.lever_arm.sigma_m.maxCoeff() <= options.max_lever_arm_sigma_m &&
+                             std::abs(out.lever_arm.gravity_m_s2 - kStandardGravity_m_s2) <= options.max_gravity_error_m_s2;
   return out;
 }
 

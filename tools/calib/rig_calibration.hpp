@@ -29,9 +29,14 @@ struct RigOptions {
   double imu_rate_hz = 100.0;  // the recording's IMU line (used when it has no manifest.yaml)
   std::uint32_t imu_baud = 115200;
   double max_offset_s = 0.3;   // the coarse search: offsets within ±this
-  int max_deskewed_passes = 5;  // passes 2.. end when the estimate settles, or after this many
-  // The lever arm is reported as observable when its largest 1 σ is within this.
+  int max_deskewed_passes = 6;  // passes 2.. end when the estimate settles, or after this many
+  // The lever arm is reported as observable when its largest 1 σ is within
+  // this and the fitted gravity is within max_gravity_error_m_s2 of
+  // standard gravity (a check of the lidar's accelerations: registration
+  // errors that follow the motion scale them, and bias the arm far beyond
+  // its σ, which treats them as independent).
   double max_lever_arm_sigma_m = 0.003;
+  double max_gravity_error_m_s2 = 0.05;
 };
 
 struct RigPass {

@@ -27,7 +27,7 @@ int run_rig_command(int argc, char** argv) {
   app.add_option("--max-offset-s", options.max_offset_s, "search the time offset within +-this (default 0.3)")
       ->check(CLI::Range(0.01, 1.0));
   app.add_option("--max-passes", options.max_deskewed_passes,
-                 "de-skewed registration passes at most; they end when the estimate settles (default 5)")
+                 "de-skewed registration passes at most; they end when the estimate settles (default 6)")
       ->check(CLI::Range(1, 20));
   try {
     app.parse(argc, argv);

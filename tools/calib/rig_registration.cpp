@@ -103,8 +103,13 @@ std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap
   std::vector<ScanPose> poses;
   Prediction last;  // the newest pose (registered or predicted), and the twist into it
   bool stopped = false;
+  std::size_t scans_seen = 0, most_points = 0;
   for_each_scan(lidar_pcap, [&](const Scan& scan) {
     if (stopped) return;
+    // The recording's first scan is a part of a turn, and so is any scan
+    // with packets lost: a sliver would start (or mislead) the map.
+    most_points = std::max(most_points, scan.points.size());
+    if (scans_seen++ == 0 || scan.points.size() < most_points / 2) return;
     const double t0 = scan.points.front().t_s, t1 = scan.points.back().t_s;
     predict(last, gyro, imu, previous, t0, t1, trajectory);
     if (registration.process(scan, trajectory, result) != ScanOutcome::Registered) return;

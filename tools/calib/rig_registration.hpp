@@ -9,7 +9,9 @@
 //    pass 1 is only trusted while it agrees with the gyro (see `stop`).
 //  - With a gyro model (an estimate of R_LI, time offset and bias), scans
 //    are de-skewed by the gyro's rotation and a constant velocity.
-// Poses are those at each scan's first point.
+// Poses are those at each scan's first point. The recording's first scan
+// (a part of a turn) and scans with less than half the points of the
+// fullest so far are left out.
 #pragma once
 
 #include <Eigen/Geometry>

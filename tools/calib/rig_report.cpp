@@ -58,8 +58,9 @@ void print_rig_calibration(std::FILE* out, const RigCalibration& c) {
   } else if (arm.solved) {
     std::fprintf(out,
                  "    translation_m: [0, 0, 0]  # NOT OBSERVABLE: fitted [%.4f, %.4f, %.4f] +- [%.4f, %.4f, %.4f] m "
-                 "(1 sigma); measure it on the mount\n",
-                 arm.t_m.x(), arm.t_m.y(), arm.t_m.z(), arm.sigma_m.x(), arm.sigma_m.y(), arm.sigma_m.z());
+                 "(1 sigma), gravity %.3f m/s^2; measure it on the mount\n",
+                 arm.t_m.x(), arm.t_m.y(), arm.t_m.z(), arm.sigma_m.x(), arm.sigma_m.y(), arm.sigma_m.z(),
+                 arm.gravity_m_s2);
   } else {
     std::fprintf(out, "    translation_m: [0, 0, 0]  # NOT OBSERVABLE from this recording; measure it on the mount\n");
   }
