@@ -73,7 +73,9 @@ int write_outputs(const BenchCalibration& bench, const std::filesystem::path& ou
 
 int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "rig") return tumble::calib::run_rig_command(argc - 1, argv + 1);
-  CLI::App app{"tumble-calib: fit the speed-uncertainty models (paper section V-A) on a rail + turntable bench"};
+  CLI::App app{
+      "tumble-calib: fit the speed-uncertainty models (paper section V-A) on a rail + turntable bench "
+      "(tumble-calib rig --help: the lidar-IMU calibration of a rig)"};
   std::string bench_dir, out_dir, model_name = "NM";
   unsigned jobs = 1;
   std::size_t point_stride = 1;
