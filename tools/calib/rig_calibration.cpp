@@ -13,6 +13,9 @@ namespace {
 // Earth's gravity varies by ±0.03 m/s² with place: within the check's 0.05.
 constexpr double kStandardGravity_m_s2 = 9.80665;
 constexpr double kCoarseStepS = 0.001;
+// After the coarse search, the first de-skewed pass searches this grid.
+constexpr double kWideHalfWidthS = 0.04;
+constexpr double kWideStepS = 0.001;
 // Each pass searches the offset around the last estimate in two grids.
 constexpr double kFineHalfWidthS = 0.008;
 constexpr double kFineStepS = 0.0005;
@@ -26,6 +29,8 @@ constexpr double kSettledRotationDeg = 0.02;
 constexpr double kBootstrapMismatchRad = 0.03;
 constexpr std::size_t kBootstrapStopAfter = 3;
 constexpr double kBootstrapMinWeakestAxisDeg = 0.1;
+constexpr double kBootstrapLagSearchS = 0.08;
+constexpr double kBootstrapLagStepS = 0.002;
 
 Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -121,7 +126,12 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   pass.scans = poses.size();
   for (const ScanPose& p : poses) pass.scans_registered += p.registered ? 1 : 0;
   pass.increments = lidar1.size();
-  pass.rotation = align_rotation_increments(rotation_increments(lidar1, imu, 0.0), false);
+  // Its poses lag (the constant twist): the gyro agrees best shifted by
+  // tens of ms, and the rotation is much better fitted there. The shift is
+  // the lag's, not the rig's offset: the next pass starts from offset 0.
+  const TimeOffsetEstimate lag = fine_time_offset(lidar1, imu, 0.0, kBootstrapLagSearchS, kBootstrapLagStepS);
+  pass.rotation = align_rotation_increments(rotation_increments(lidar1, imu, lag.offset_s), false);
+  pass.name += " (best agreement " + std::to_string(static_cast<int>(std::lround(lag.offset_s * 1e3))) + " ms)";
   if (progress) progress(pass);
   out.passes.push_back(pass);
 
@@ -141,7 +151,12 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
             << coarse.offset_s << " s, rate correlation " << coarse.score << ")";
         throw RigError(why.str());
       }
-      pass = evaluate_pass(name, poses, imu, coarse.offset_s, kFineHalfWidthS, kFineStepS);
+      // The magnitudes' correlation peak is broad and, with the first
+      // rotation still degrees off, tens of ms out: the residual decides
+      // over a wider grid first.
+      const TimeOffsetEstimate wide =
+          fine_time_offset(lidar_rotations(poses), imu, coarse.offset_s, kWideHalfWidthS, kWideStepS);
+      pass = evaluate_pass(name, poses, imu, wide.offset_s, kFineHalfWidthS, kFineStepS);
     } else {
       pass = evaluate_pass(name, poses, imu, gyro.timing.offset_s, kFineHalfWidthS, kFineStepS);
     }
