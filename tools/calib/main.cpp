@@ -15,6 +15,8 @@
 // missing or corrupt is reported on one line and left out.
 // Exit: 0 calibrated (runs may have been left out), 1 nothing to calibrate
 // from or an output could not be written, 2 bad command line or bench.csv.
+// `tumble-calib rig RECORDING_DIR` is the lidar-IMU calibration of a rig
+// (rig_command.hpp).
 #include <spdlog/spdlog.h>
 
 #include <CLI/CLI.hpp>
@@ -27,6 +29,7 @@
 #include "tools/calib/input_error.hpp"
 #include "tools/calib/plot.hpp"
 #include "tools/calib/report.hpp"
+#include "tools/calib/rig_command.hpp"
 
 namespace {
 
@@ -69,7 +72,10 @@ int write_outputs(const BenchCalibration& bench, const std::filesystem::path& ou
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tumble-calib: fit the speed-uncertainty models (paper section V-A) on a rail + turntable bench"};
+  if (argc > 1 && std::string(argv[1]) == "rig") return tumble::calib::run_rig_command(argc - 1, argv + 1);
+  CLI::App app{
+      "tumble-calib: fit the speed-uncertainty models (paper section V-A) on a rail + turntable bench "
+      "(tumble-calib rig --help: the lidar-IMU calibration of a rig)"};
   std::string bench_dir, out_dir, model_name = "NM";
   unsigned jobs = 1;
   std::size_t point_stride = 1;

@@ -59,7 +59,7 @@ Eigen::Vector3d ImuModel::gaussian3(double sigma) {
 bool ImuModel::next(double duration_s, ImuMeasurement& out) {
   const double t_s = imu_sample_time_s(clock_, config_.rate_hz, index_);
   if (t_s > duration_s) return false;
-  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s), T_LI_);
+  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s + clock_.imu_time_offset_s), T_LI_);
   out.t_s = t_s;
   out.gyro_rad_s = ideal.omega_i;
   out.accel_m_s2 = ideal.specific_force_i;

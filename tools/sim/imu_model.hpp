@@ -33,6 +33,10 @@ struct ImuClock {
   double first_sample_s = 0.0;            // run time of the first sample
   std::uint32_t first_sample_time_fine = 0;  // its SampleTimeFine (10 kHz ticks since power-up)
   std::uint16_t first_packet_counter = 0;
+  // The rig's lidar-IMU time offset, in tumbled's convention: the sample sent
+  // (and so stamped) at run time t measures the motion at t + this, so
+  // tumbled's `imu.imu_time_offset_s` set to the same value cancels it.
+  double imu_time_offset_s = 0.0;
 };
 
 // StatusWord clip bits (mti.md).
@@ -49,7 +53,7 @@ struct ImuKinematics {
 ImuKinematics imu_kinematics(const MotionState& body, const Eigen::Isometry3d& T_LI);
 
 struct ImuMeasurement {
-  double t_s = 0.0;                        // true run time of the sample
+  double t_s = 0.0;  // run time the sample is sent for (it measures the motion at t_s + imu_time_offset_s)
   Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();  // as reported (clipped at the range)
   Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
   std::uint32_t status_word = 0;

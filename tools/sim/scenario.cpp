@@ -222,8 +222,9 @@ Scenario parse_scenario(const YAML::Node& root, const std::string& source_name, 
   s.ground_truth_rate_hz = read_in(root, at, "ground_truth_rate_hz", s.ground_truth_rate_hz, 1000.0, 100'000.0);
 
   const YAML::Node extrinsics = section(root, "extrinsics");
-  check_keys(extrinsics, at.key("extrinsics"), {"T_LI"});
+  check_keys(extrinsics, at.key("extrinsics"), {"T_LI", "imu_time_offset_s"});
   s.T_LI = read_pose(section(extrinsics, "T_LI"), at.key("extrinsics").key("T_LI"));
+  s.imu_time_offset_s = read_in(extrinsics, at.key("extrinsics"), "imu_time_offset_s", 0.0, -1.0, 1.0);
   read_lidar(section(root, "lidar"), at.key("lidar"), s);
   read_imu(section(root, "imu"), at.key("imu"), s);
   return s;
@@ -254,6 +255,7 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
   pose["translation_m"].SetStyle(YAML::EmitterStyle::Flow);
   pose["rpy_deg"].SetStyle(YAML::EmitterStyle::Flow);
   n["extrinsics"]["T_LI"] = pose;
+  n["extrinsics"]["imu_time_offset_s"] = s.imu_time_offset_s;
 
   YAML::Node l;
   l["rpm"] = s.lidar.rpm;

@@ -29,6 +29,7 @@ struct Scenario {
   std::int64_t epoch_ns = 0;             // host (and synced lidar) clock at run time 0
   double ground_truth_rate_hz = 1000.0;
   Eigen::Isometry3d T_LI = Eigen::Isometry3d::Identity();  // IMU pose in the lidar frame
+  double imu_time_offset_s = 0.0;  // tumbled's imu.imu_time_offset_s that cancels the IMU's timing error (ImuClock)
 
   LidarConfig lidar;
   LidarLinkConfig lidar_link;

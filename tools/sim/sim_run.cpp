@@ -59,6 +59,7 @@ SimRun::SimRun(Scenario scenario)
       static_cast<std::uint32_t>(std::floor(s.imu_sample_time_start_s.value_or(start_s) * 10'000.0 / ticks_per_sample) *
                                  ticks_per_sample);
   imu_clock_.first_packet_counter = counter;
+  imu_clock_.imu_time_offset_s = s.imu_time_offset_s;
 }
 
 LidarStream SimRun::lidar_stream() const {

@@ -11,6 +11,7 @@
 #include "drivers/mti/frame_reader.hpp"
 #include "drivers/mti/imu_sample.hpp"
 #include "drivers/mti/mtdata2_decode.hpp"
+#include "drivers/mti/mti_stream.hpp"
 #include "drivers/pcap/pcap_file.hpp"
 #include "test/tools/sim/sensor_test_support.hpp"
 #include "tools/sim/imu_stream.hpp"
@@ -271,6 +272,74 @@ TEST(ImuStream, ReadsCarryEveryByteLikeATtyAtTheBaudRate) {
 TEST(ImuStream, FrameSizeFitsTheBaudChecks) {
   EXPECT_EQ(mtdata2_frame_bytes(mti::NumberFormat::Float32), 54u);
   EXPECT_GT(mtdata2_frame_bytes(mti::NumberFormat::Float64), 54u);
+}
+
+// The simulated rig's lidar-IMU time offset (extrinsics.imu_time_offset_s)
+// follows tumbled's imu.imu_time_offset_s: the same value in tumbled.yaml
+// cancels it. Checked on the model (what a sample measures) and through the
+// driver's byte stream (what tumbled makes of it).
+const WobbleMotion kOffsetMotion(2.0, {0.2, 0.1, 0.1}, {3.0, 4.0, 5.0}, 0.8, 6.0, {0.3, 0.5, 0.8});
+const Eigen::Isometry3d kOffsetT_LI = pose_from_xyz_rpy_deg({0.0, 0.03, -0.08}, {180.0, 0.0, 90.0});
+
+ImuClock clock_with_offset(double imu_time_offset_s) {
+  ImuClock c;
+  c.first_sample_s = 0.1;
+  c.first_sample_time_fine = 40'000;
+  c.imu_time_offset_s = imu_time_offset_s;
+  return c;
+}
+
+TEST(ImuTimeOffset, ASampleMeasuresTheMotionAtItsTimePlusTheOffset) {
+  ImuModel model(ImuConfig{}, clock_with_offset(0.04), kOffsetT_LI, kOffsetMotion, 1, false);
+  ImuMeasurement m;
+  int checked = 0;
+  while (model.next(1.5, m)) {
+    const Eigen::Vector3d at_offset = imu_kinematics(kOffsetMotion.at(m.t_s + 0.04), kOffsetT_LI).omega_i;
+    const Eigen::Vector3d at_send = imu_kinematics(kOffsetMotion.at(m.t_s), kOffsetT_LI).omega_i;
+    EXPECT_LT((m.gyro_rad_s - at_offset).norm(), 1e-6) << "t " << m.t_s;
+    if ((at_offset - at_send).norm() > 0.05) ++checked;  // the offset is visible here
+  }
+  EXPECT_GT(checked, 50);
+}
+
+// The driver stamps a sample when its bytes arrive, less their time on the
+// wire; the device's processing latency is not visible to it (here 0, so the
+// stamp is the send time up to the read latency).
+std::vector<ImuSample> decoded(double sim_offset_s, double tumbled_offset_s) {
+  ImuLinkConfig link;
+  link.processing_latency_s = 0.0;
+  link.read_latency_s = 0.0;
+  link.read_jitter_s = 0.0;
+  ImuStream stream(ImuConfig{}, clock_with_offset(sim_offset_s), link, kOffsetT_LI, kOffsetMotion, 1, false, 1.9);
+  mti::MtiStreamOptions options;
+  options.imu_time_offset_s = tumbled_offset_s;
+  mti::MtiStream driver(options);
+  std::vector<ImuSample> out;
+  SerialRead read;
+  while (stream.next(read)) driver.feed(read.bytes, static_cast<double>(read.arrival_ns) * 1e-9, out);
+  return out;
+}
+
+// Largest gap between what the samples read and the motion at their stamps.
+double worst_rate_error_rad_s(const std::vector<ImuSample>& samples) {
+  double worst = 0;
+  for (const ImuSample& s : samples)
+    worst = std::max(worst, (s.gyro_rad_s - imu_kinematics(kOffsetMotion.at(s.t_s), kOffsetT_LI).omega_i).norm());
+  return worst;
+}
+
+TEST(ImuTimeOffset, TumbledsOffsetOfTheSameValueCancelsIt) {
+  for (const double offset_s : {0.03, -0.03}) {
+    const std::vector<ImuSample> cancelled = decoded(offset_s, offset_s);
+    const std::vector<ImuSample> ignored = decoded(offset_s, 0.0);
+    const std::vector<ImuSample> doubled = decoded(offset_s, -offset_s);
+    ASSERT_GT(cancelled.size(), 150u);
+    // 0.03 s at these rates and accelerations is ~0.2 rad/s; what is left
+    // after cancelling is the quantised stamp (float32 rates, µs times).
+    EXPECT_LT(worst_rate_error_rad_s(cancelled), 0.01) << offset_s;
+    EXPECT_GT(worst_rate_error_rad_s(ignored), 0.1) << offset_s;
+    EXPECT_GT(worst_rate_error_rad_s(doubled), worst_rate_error_rad_s(ignored)) << offset_s;
+  }
 }
 
 }  // namespace

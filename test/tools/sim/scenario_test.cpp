@@ -72,6 +72,9 @@ TEST(Scenario, ErrorsNameTheFileTheKeyAndWhy) {
   EXPECT_NE(scenario_error_of(std::string(kMinimal) + "extrinsics: {T_LI: {translation_m: [1, 2]}}\n")
                 .find("s.yaml: extrinsics.T_LI.translation_m: must be 3 numbers"),
             std::string::npos);
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "extrinsics: {imu_time_offset_s: 1.5}\n")
+                .find("s.yaml: extrinsics.imu_time_offset_s: must be in [-1, 1], got 1.5"),
+            std::string::npos);
   EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {dropout_probability: 1.5}\n")
                 .find("s.yaml: lidar.dropout_probability: must be in [0, 1], got 1.5"),
             std::string::npos);
