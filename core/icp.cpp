@@ -129,7 +129,7 @@ std::size_t Icp::neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int it
   ++scratch.searches;
   for (std::size_t j = 0; j < count; ++j) {
     const MapPoint& q = map.point(found[j].index);
-    kept[j] = KeptNeighbour{q.p_w, q.normal_w, q.sigma_n_m * q.sigma_n_m + q.sigma_s_m * q.sigma_s_m, q.normal_valid};
+    kept[j] = KeptNeighbour{map.position(found[j].index), q.normal_w, q.variance_m2, q.normal_valid};
     ranked[j] = RankedNeighbour{found[j].distance_sq, &kept[j]};
   }
   kept_count_[i] = static_cast<std::uint8_t>(count);

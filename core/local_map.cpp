@@ -135,9 +135,7 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
     Chunk& last = chunk(voxel.last_chunk);
     MapPoint& mp = last.points[j];
     mp = MapPoint{};
-    mp.p_w = p_w;
-    mp.sigma_n_m = cloud.sigma_n_m[i];
-    mp.sigma_s_m = cloud.sigma_s_m[i];
+    mp.variance_m2 = cloud.sigma_n_m[i] * cloud.sigma_n_m[i] + cloud.sigma_s_m[i] * cloud.sigma_s_m[i];
     mp.line_id = line_base | cloud.rings[i];
     last.positions[j] = p_w;
     new_points_.push_back(voxel.last_chunk * kChunkPoints + j);
@@ -153,14 +151,13 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
       const std::uint32_t index = new_points_[n];
       MapPoint& mp = chunk(index / kChunkPoints).points[index % kChunkPoints];
       const PlaneFit fit = NormalEstimator::fit_neighbourhood(
-          mp.p_w, mp.line_id, sensor_w, params_.normals, neighbours_[worker],
+          position(index), mp.line_id, sensor_w, params_.normals, neighbours_[worker],
           [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
             return knn(q, radius, out, k, KnnOrder::kAny);
           },
-          [&](std::uint32_t i) -> const Eigen::Vector3d& { return point(i).p_w; },
+          [&](std::uint32_t i) -> const Eigen::Vector3d& { return position(i); },
           [&](std::uint32_t i) { return point(i).line_id; });
       mp.normal_w = fit.normal;
-      mp.curvature = fit.curvature;
       mp.normal_valid = fit.valid;
     }
   });

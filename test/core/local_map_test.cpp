@@ -35,8 +35,8 @@ TEST(LocalMap, InsertsInTheWorldFrameOfThePose) {
   map.insert(cloud_of({{1, 0, 0}}), T_wl);
   Neighbour nn;
   ASSERT_EQ(map.knn(Eigen::Vector3d(10, -4, 2), 0.01, std::span<Neighbour>(&nn, 1)), 1u);
-  EXPECT_NEAR(map.point(nn.index).p_w.x(), 10, 1e-12);
-  EXPECT_NEAR(map.point(nn.index).p_w.y(), -4, 1e-12);
+  EXPECT_NEAR(map.position(nn.index).x(), 10, 1e-12);
+  EXPECT_NEAR(map.position(nn.index).y(), -4, 1e-12);
 }
 
 TEST(LocalMap, PointsTooUncertainStayOut) {
@@ -46,10 +46,11 @@ TEST(LocalMap, PointsTooUncertainStayOut) {
   const MapInsertStats stats = map.insert(c, Eigen::Isometry3d::Identity());
   EXPECT_EQ(stats.inserted, 2u);
   EXPECT_EQ(stats.rejected_sigma, 3u);
-  std::vector<double> sigmas;
-  map.for_each_point([&](const MapPoint& p) { sigmas.push_back(p.sigma_s_m); });
-  std::sort(sigmas.begin(), sigmas.end());
-  EXPECT_EQ(sigmas, (std::vector<double>{0.5, 1.0}));
+  std::vector<double> variances;
+  map.for_each_point([&](const Eigen::Vector3d&, const MapPoint& p) { variances.push_back(p.variance_m2); });
+  std::sort(variances.begin(), variances.end());
+  const double sigma_n = c.sigma_n_m[0];
+  EXPECT_EQ(variances, (std::vector<double>{sigma_n * sigma_n + 0.25, sigma_n * sigma_n + 1.0}));
 }
 
 TEST(LocalMap, VoxelCapBoundsPointsPerVoxel) {
@@ -73,15 +74,15 @@ TEST(LocalMap, RemovesExactlyTheVoxelsOutsideTheRadius) {
   const std::size_t before = map.size();
   const Eigen::Vector3d centre(3, -2, 0);
   std::size_t expected_kept = 0;
-  map.for_each_point([&](const MapPoint& p) {
-    const Eigen::Vector3d cell = (p.p_w / 0.5).array().floor();
+  map.for_each_point([&](const Eigen::Vector3d& p_w, const MapPoint&) {
+    const Eigen::Vector3d cell = (p_w / 0.5).array().floor();
     if (((cell + Eigen::Vector3d::Constant(0.5)) * 0.5 - centre).norm() <= 10) ++expected_kept;
   });
   const std::size_t removed = map.remove_far_from(centre);
   EXPECT_EQ(map.size(), expected_kept);
   EXPECT_EQ(removed, before - expected_kept);
   EXPECT_GT(removed, 0u);
-  map.for_each_point([&](const MapPoint& p) { EXPECT_LT((p.p_w - centre).norm(), 10 + 0.5 * std::sqrt(3.0)); });
+  map.for_each_point([&](const Eigen::Vector3d& p_w, const MapPoint&) { EXPECT_LT((p_w - centre).norm(), 10 + 0.5 * std::sqrt(3.0)); });
   // Freed voxels are reused: a re-insert restores the far points.
   map.insert(cloud_of(pts), Eigen::Isometry3d::Identity());
   EXPECT_EQ(map.size(), before);
@@ -108,12 +109,12 @@ TEST(LocalMap, KnnMatchesBruteForce) {
       ASSERT_EQ(found, std::min(k, brute.size()));
       for (std::size_t i = 0; i < found; ++i) {
         EXPECT_DOUBLE_EQ(out[i].distance_sq, brute[i]);
-        EXPECT_DOUBLE_EQ((map.point(out[i].index).p_w - query).squaredNorm(), brute[i]);
+        EXPECT_DOUBLE_EQ((map.position(out[i].index) - query).squaredNorm(), brute[i]);
       }
       // In any order: the same neighbours.
       ASSERT_EQ(map.knn(query, radius, std::span<Neighbour>(out.data(), storage), k, KnnOrder::kAny), found);
       std::vector<double> any_order;
-      for (std::size_t i = 0; i < found; ++i) any_order.push_back((map.point(out[i].index).p_w - query).squaredNorm());
+      for (std::size_t i = 0; i < found; ++i) any_order.push_back((map.position(out[i].index) - query).squaredNorm());
       std::sort(any_order.begin(), any_order.end());
       for (std::size_t i = 0; i < found; ++i) EXPECT_DOUBLE_EQ(any_order[i], brute[i]);
     }
@@ -134,7 +135,7 @@ TEST(LocalMap, InsertCandidatesAreThePointsWithNoMapPointWithinTheMinimumDistanc
   ASSERT_EQ(count, candidates.size());
   std::vector<std::uint32_t> expected;
   std::vector<Eigen::Vector3d> in_map;
-  map.for_each_point([&](const MapPoint& p) { in_map.push_back(p.p_w); });
+  map.for_each_point([&](const Eigen::Vector3d& p_w, const MapPoint&) { in_map.push_back(p_w); });
   for (std::size_t i = 0; i < scan.size(); ++i) {
     const Eigen::Vector3d p_w = T_wl * scan[i];
     const bool covered = std::any_of(in_map.begin(), in_map.end(), [&](const Eigen::Vector3d& q) { return (q - p_w).norm() < 0.05; });
@@ -154,10 +155,9 @@ TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
   LocalMap map(params);
   map.insert(surfaces, Eigen::Isometry3d::Identity());
   std::size_t checked = 0;
-  map.for_each_point([&](const MapPoint& p) {
+  map.for_each_point([&](const Eigen::Vector3d& q, const MapPoint& p) {
     // The ceiling (no obstacle reaches it), away from the walls: its points
     // fit its plane exactly.
-    const Eigen::Vector3d& q = p.p_w;
     if (std::abs(q.z() - room.interior.hi.z()) > 1e-9) return;
     const double dx = std::min(std::abs(q.x() - room.interior.lo.x()), std::abs(q.x() - room.interior.hi.x()));
     const double dy = std::min(std::abs(q.y() - room.interior.lo.y()), std::abs(q.y() - room.interior.hi.y()));
