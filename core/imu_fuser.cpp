@@ -10,7 +10,6 @@ namespace tumble {
 
 namespace {
 
-constexpr double kStandardGravity_m_s2 = 9.80665;
 // A direction cosine above this couples one axis into another (clip flags).
 constexpr double kAxisCoupling = 0.1;
 

@@ -103,7 +103,7 @@ struct ImuFuserParams {
   MadgwickParams madgwick;
   bool attitude_from_device = false;
 
-  double accel_noise_density_m_s2_sqrt_hz = 60e-6 * 9.80665;  // MTi-30 datasheet
+  double accel_noise_density_m_s2_sqrt_hz = 60e-6 * kStandardGravity_m_s2;  // MTi-30 datasheet
   double accel_unmodelled_m_s2 = 0.1;
   double saturated_accel_sigma_m_s2 = 100.0;    // how far beyond the range a clipped axis may be
   double initial_velocity_sigma_m_s = 0.01;     // after the static period
@@ -225,7 +225,7 @@ class ImuFuser {
   Eigen::Vector3d static_gyro_sum_ = Eigen::Vector3d::Zero();
 
   bool initialized_ = false;
-  double gravity_m_s2_ = 9.80665;
+  double gravity_m_s2_ = kStandardGravity_m_s2;
   Eigen::Vector3d gyro_bias_ = Eigen::Vector3d::Zero();
   MadgwickFilter madgwick_;
   std::optional<Eigen::Quaterniond> device_alignment_;  // q_W←device frame

@@ -10,6 +10,10 @@
 
 namespace tumble {
 
+// Standard gravity (the MTi reports its ranges in g, the fuser and the tools
+// model |g| with it).
+inline constexpr double kStandardGravity_m_s2 = 9.80665;
+
 // One lidar return, in the lidar frame at its own firing time.
 struct LidarPoint {
   double t_s = 0.0;

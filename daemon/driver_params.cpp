@@ -2,13 +2,9 @@
 
 #include <algorithm>
 
+#include "core/types.hpp"
+
 namespace tumble::daemon {
-
-namespace {
-
-constexpr double kStandardGravity_m_s2 = 9.80665;
-
-}  // namespace
 
 OdometryParams odometry_params(const DaemonConfig& config) {
   const RegistrationConfig& r = config.registration;

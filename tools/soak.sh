@@ -27,6 +27,13 @@ awk '$1 >= 120 { n++; sx += $1; sy += $2; sxx += $1 * $1; sxy += $1 * $2 }
            printf "RSS after 2 min: %d samples, %.1f to %.1f MiB, slope %+.3f MiB/min\n",
                   n, first / 1024, last / 1024, slope * 60 / 1024 }
      $1 >= 120 { if (!first) first = $2; last = $2 }' "$work/rss.txt"
+# The map fills until the robot has seen the whole scene: the second half's
+# slope is the one a leak would show.
+awk '{ t[NR] = $1; r[NR] = $2 } END { for (i = 1; i <= NR; i++) if (t[i] >= t[NR] / 2) {
+       n++; sx += t[i]; sy += r[i]; sxx += t[i] * t[i]; sxy += t[i] * r[i] }
+     if (n < 3) { print "RSS slope, second half: too short a run"; exit }
+     printf "RSS slope, second half (%d samples from %d s): %+.3f MiB/min\n", n, t[NR] / 2,
+            (n * sxy - sx * sy) / (n * sxx - sx * sx) * 60 / 1024 }' "$work/rss.txt"
 echo "RSS per minute (MiB): $(awk '$1 % 60 < 10 { printf "%.0f ", $2 / 1024 }' "$work/rss.txt")"
 echo "state changes:"
 grep -E "state [a-z_]+( -> [a-z_]+)?: " "$work/tumbled.err" | sed 's/^\[[^]]*\] /  /' || echo "  none"

@@ -2,11 +2,12 @@
 
 #include <numbers>
 
+#include "core/types.hpp"
+
 namespace tumble::mti {
 namespace {
 
 constexpr double kDegToRad = std::numbers::pi / 180.0;
-constexpr double kStandardGravity_m_s2 = 9.80665;
 
 std::optional<double> gyro_range_rad_s(char code) {
   switch (code) {

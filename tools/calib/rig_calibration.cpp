@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "core/angles.hpp"
+#include "core/types.hpp"
 #include "tools/calib/input_error.hpp"
 #include "tools/calib/run_inputs.hpp"
 
@@ -11,7 +12,6 @@ namespace tumble::calib {
 namespace {
 
 // Earth's gravity varies by ±0.03 m/s² with place: within the check's 0.05.
-constexpr double kStandardGravity_m_s2 = 9.80665;
 constexpr double kCoarseStepS = 0.001;
 // After the coarse search, the first de-skewed pass searches this grid.
 constexpr double kWideHalfWidthS = 0.04;

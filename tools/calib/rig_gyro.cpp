@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "core/rotation.hpp"
+
 namespace tumble::calib {
 namespace {
 
@@ -10,12 +12,6 @@ std::size_t first_after(std::span<const ImuSample> samples, const GyroTiming& ti
   const auto it = std::upper_bound(samples.begin(), samples.end(), t_s - timing.offset_s,
                                    [](double t, const ImuSample& s) { return t < s.t_s; });
   return static_cast<std::size_t>(it - samples.begin());
-}
-
-Eigen::Quaterniond rotation_of(const Eigen::Vector3d& rotation_vector_rad) {
-  const double angle = rotation_vector_rad.norm();
-  if (angle < 1e-12) return Eigen::Quaterniond::Identity();
-  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle));
 }
 
 }  // namespace
@@ -40,11 +36,11 @@ Eigen::Quaterniond gyro_rotation(std::span<const ImuSample> samples, const GyroT
   for (std::size_t j = first_after(samples, timing, t0_s); t < t1_s; ++j) {
     const double t_next = j < samples.size() ? std::min(samples[j].t_s + timing.offset_s, t1_s) : t1_s;
     const Eigen::Vector3d rate_next = gyro_rate_at(samples, timing, t_next);
-    q = q * rotation_of(0.5 * (rate + rate_next) * (t_next - t));
+    q = integrate_body_rate(q, 0.5 * (rate + rate_next), t_next - t);
     t = t_next;
     rate = rate_next;
   }
-  return q.normalized();
+  return q;
 }
 
 }  // namespace tumble::calib

@@ -6,12 +6,12 @@
 
 #include "core/angles.hpp"
 #include "core/imu_fuser.hpp"
+#include "core/types.hpp"
 #include "drivers/mti/imu_recording_reader.hpp"
 
 namespace tumble::eval {
 namespace {
 
-constexpr double kGravity_m_s2 = 9.80665;
 // Coordinate-system bits of an orientation XDI (mti.md): 01 = NED, whose up is −z.
 constexpr std::uint16_t kCoordinateMask = 0x000C;
 constexpr std::uint16_t kCoordinateNed = 0x0004;
@@ -24,7 +24,7 @@ std::optional<AngleStats> angle_stats(std::vector<double> deg) {
 }
 
 bool looks_still(const ImuSample& s, const ImuEvalOptions& o) {
-  return s.gyro_rad_s.norm() < o.still_gyro_rad_s && std::abs(s.accel_m_s2.norm() - kGravity_m_s2) < o.still_accel_m_s2;
+  return s.gyro_rad_s.norm() < o.still_gyro_rad_s && std::abs(s.accel_m_s2.norm() - kStandardGravity_m_s2) < o.still_accel_m_s2;
 }
 
 // Runs of still samples at least still_min_s long.

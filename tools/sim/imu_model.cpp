@@ -8,7 +8,7 @@
 namespace tumble::sim {
 namespace {
 
-constexpr double kMicroG = kGravity_m_s2 * 1e-6;
+constexpr double kMicroG = kStandardGravity_m_s2 * 1e-6;
 constexpr std::uint32_t kTicksPerSecond = 10'000;
 constexpr std::uint64_t kSampleTimeFineWrap = 864'000'000;  // one day of ticks
 constexpr double kBiasStabilityHorizonS = 100.0;
@@ -31,7 +31,7 @@ std::uint32_t clip(Eigen::Vector3d& v, double range, std::uint32_t first_bit) {
 ImuKinematics imu_kinematics(const MotionState& body, const Eigen::Isometry3d& T_LI) {
   const Eigen::Vector3d& r = T_LI.translation();
   const Eigen::Vector3d& w = body.omega_b;
-  const Eigen::Vector3d gravity_w(0.0, 0.0, -kGravity_m_s2);
+  const Eigen::Vector3d gravity_w(0.0, 0.0, -kStandardGravity_m_s2);
   const Eigen::Vector3d f_body =
       body.T_wb.linear().transpose() * (body.a_w - gravity_w) + body.alpha_b.cross(r) + w.cross(w.cross(r));
   const Eigen::Matrix3d R_il = T_LI.linear().transpose();

@@ -37,7 +37,7 @@ ImuStream::ImuStream(const ImuConfig& imu, const ImuClock& clock, const ImuLinkC
   if (link_.leading_garbage_bytes > 0) {
     // The tail of the frame that was on the wire when the capture began.
     ImuMeasurement earlier;
-    earlier.accel_m_s2 = Eigen::Vector3d(0.0, 0.0, kGravity_m_s2);
+    earlier.accel_m_s2 = Eigen::Vector3d(0.0, 0.0, kStandardGravity_m_s2);
     earlier.packet_counter = static_cast<std::uint16_t>(clock.first_packet_counter - 1);
     earlier.sample_time_fine = clock.first_sample_time_fine - static_cast<std::uint32_t>(10'000 / imu.rate_hz);
     const auto frame = mtdata2_frame(earlier, link_.number_format);

@@ -8,9 +8,9 @@
 
 #include <memory>
 
-namespace tumble::sim {
+#include "core/types.hpp"
 
-inline constexpr double kGravity_m_s2 = 9.80665;
+namespace tumble::sim {
 
 struct MotionState {                 // of the sensor cage body frame B (= lidar frame L)
   Eigen::Isometry3d T_wb = Eigen::Isometry3d::Identity();

@@ -100,7 +100,7 @@ class Loader {
           read_positive_range(b, here, "height_m", {ranges.bounce_height_min_m, ranges.bounce_height_max_m});
       std::tie(ranges.bounce_peak_min_m_s2, ranges.bounce_peak_max_m_s2) =
           read_positive_range(b, here, "peak_m_s2", {ranges.bounce_peak_min_m_s2, ranges.bounce_peak_max_m_s2});
-      if (!(ranges.bounce_peak_min_m_s2 > kGravity_m_s2))
+      if (!(ranges.bounce_peak_min_m_s2 > kStandardGravity_m_s2))
         here.key("peak_m_s2").fail("must exceed g = 9.80665 m/s^2 (an impact has to lift the cage)");
     }
     if (has_key(node, "jolts")) {

@@ -21,7 +21,7 @@ struct ImpactMoments {
 ImpactMoments takeoff_moments(double peak_accel_m_s2) {
   ScalarProfile unit;
   unit.blend_accel_to(peak_accel_m_s2, 0.5);
-  unit.blend_accel_to(-kGravity_m_s2, 0.5);
+  unit.blend_accel_to(-kStandardGravity_m_s2, 0.5);
   const ProfileSample e = unit.end_state();
   return {e.v, e.s};
 }
@@ -33,7 +33,7 @@ ImpactMoments takeoff_moments(double peak_accel_m_s2) {
 // ballistic rise v^2 / 2g is the apex.
 double launch_speed_m_s(double height_m, double peak_accel_m_s2) {
   const ImpactMoments m = takeoff_moments(peak_accel_m_s2);
-  return std::sqrt(height_m / (m.m1 / (m.m0 * m.m0) + 1.0 / (2.0 * kGravity_m_s2)));
+  return std::sqrt(height_m / (m.m1 / (m.m0 * m.m0) + 1.0 / (2.0 * kStandardGravity_m_s2)));
 }
 
 // Deterministic uniform in [lo, hi] on any standard library (the std
@@ -97,8 +97,8 @@ ScalarProfile bounce_profile(double t_start_s, double height_m, double peak_acce
   const double impact_s = v_up / m.m0;
   ScalarProfile p(0, 0, t_start_s);
   p.blend_accel_to(peak_accel_m_s2, impact_s / 2);
-  p.blend_accel_to(-kGravity_m_s2, impact_s / 2);
-  p.hold(2.0 * v_up / kGravity_m_s2);
+  p.blend_accel_to(-kStandardGravity_m_s2, impact_s / 2);
+  p.hold(2.0 * v_up / kStandardGravity_m_s2);
   p.blend_accel_to(peak_accel_m_s2, impact_s / 2);
   p.blend_accel_to(0.0, impact_s / 2);
   return p;
@@ -106,7 +106,7 @@ ScalarProfile bounce_profile(double t_start_s, double height_m, double peak_acce
 
 double bounce_duration_s(double height_m, double peak_accel_m_s2) {
   const double v_up = launch_speed_m_s(height_m, peak_accel_m_s2);
-  return 2.0 * v_up / takeoff_moments(peak_accel_m_s2).m0 + 2.0 * v_up / kGravity_m_s2;
+  return 2.0 * v_up / takeoff_moments(peak_accel_m_s2).m0 + 2.0 * v_up / kStandardGravity_m_s2;
 }
 
 double jolt_duration_s(double peak_accel_rad_s2, double rate_swing_rad_s) {
@@ -138,7 +138,7 @@ RollingCageMotion::RollingCageMotion(RollingCageParams params)
   if (!(radius_m_ > 0)) throw std::invalid_argument("the cage radius must be positive");
   std::vector<Interval> busy;
   for (const CageBounce& b : params.bounces) {
-    if (!(b.height_m > 0) || !(b.peak_accel_m_s2 > kGravity_m_s2))
+    if (!(b.height_m > 0) || !(b.peak_accel_m_s2 > kStandardGravity_m_s2))
       throw std::invalid_argument("a bounce needs a height > 0 and a peak acceleration > g");
     bounce_heights_.push_back(bounce_profile(b.t_start_s, b.height_m, b.peak_accel_m_s2));
     busy.push_back({b.t_start_s, bounce_heights_.back().end_s()});

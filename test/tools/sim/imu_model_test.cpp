@@ -101,7 +101,7 @@ struct Derivative {
 
 Derivative derivative(const ImuState& x, const Eigen::Vector3d& f_i, const Eigen::Vector3d& w_i) {
   const Eigen::Quaterniond dq = x.q_wi * Eigen::Quaterniond(0.0, w_i.x(), w_i.y(), w_i.z());
-  return {Eigen::Quaterniond(0.5 * dq.coeffs()), x.q_wi * f_i + Eigen::Vector3d(0, 0, -kGravity_m_s2), x.v_w};
+  return {Eigen::Quaterniond(0.5 * dq.coeffs()), x.q_wi * f_i + Eigen::Vector3d(0, 0, -kStandardGravity_m_s2), x.v_w};
 }
 
 ImuState advance(const ImuState& x, const Derivative& d, double h) {
@@ -212,7 +212,7 @@ TEST(ImuModel, NoiseAndBiasFollowTheDatasheet) {
   Eigen::Vector3d gyro_sum = Eigen::Vector3d::Zero(), accel_sum = Eigen::Vector3d::Zero();
   Eigen::Vector3d gyro_sq = Eigen::Vector3d::Zero(), accel_sq = Eigen::Vector3d::Zero();
   int n = 0;
-  const Eigen::Vector3d gravity_up(0, 0, kGravity_m_s2);
+  const Eigen::Vector3d gravity_up(0, 0, kStandardGravity_m_s2);
   while (model.next(19.995, m)) {
     const Eigen::Vector3d g = m.gyro_rad_s - model.initial_gyro_bias_rad_s();
     const Eigen::Vector3d a = m.accel_m_s2 - gravity_up - model.initial_accel_bias_m_s2();
@@ -224,7 +224,7 @@ TEST(ImuModel, NoiseAndBiasFollowTheDatasheet) {
   }
   ASSERT_EQ(n, 2000);
   // White noise of density N at 100 Hz: sigma = N * 10.
-  const double gyro_sigma = 0.03 * kDegToRad * 10.0, accel_sigma = 60e-6 * kGravity_m_s2 * 10.0;
+  const double gyro_sigma = 0.03 * kDegToRad * 10.0, accel_sigma = 60e-6 * kStandardGravity_m_s2 * 10.0;
   for (int i = 0; i < 3; ++i) {
     EXPECT_NEAR(std::sqrt(gyro_sq[i] / n), gyro_sigma, 0.08 * gyro_sigma);
     EXPECT_NEAR(std::sqrt(accel_sq[i] / n), accel_sigma, 0.08 * accel_sigma);

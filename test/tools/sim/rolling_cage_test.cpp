@@ -82,7 +82,7 @@ TEST(RollingCage, BounceStaysAboveGroundAndReachesItsApexAndPeak) {
   EXPECT_NEAR(b.end_state().v, 0.0, 1e-12) << "and at rest vertically";
   EXPECT_NEAR(b.end_s(), bounce_duration_s(0.12, 200.0), 1e-12);
   // Free flight in between: exactly -g.
-  EXPECT_NEAR(b.at(b.end_s() / 2).a, -kGravity_m_s2, 1e-12);
+  EXPECT_NEAR(b.at(b.end_s() / 2).a, -kStandardGravity_m_s2, 1e-12);
 }
 
 TEST(RollingCage, DerivativesIncludingImpacts) {
