@@ -227,6 +227,9 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       matches_.insert(matches_.end(), point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k),
                       point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k + point_match_count_[i]));
     result.matches_considered = matches_.size();
+    result.matched_ratio = static_cast<double>(std::count_if(point_match_count_.begin(), point_match_count_.begin() + static_cast<std::ptrdiff_t>(n),
+                                                             [](std::uint8_t c) { return c > 0; })) /
+                           static_cast<double>(n);
     if (matches_.size() < 6) {
       const double t_end = now();
       result.matching_s += t_end - clock_mark;

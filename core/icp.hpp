@@ -93,7 +93,8 @@ struct IcpResult {
   bool converged = false;
   std::size_t matches_considered = 0;  // within max distance, valid and agreeing normals, positive weight
   std::size_t matches_kept = 0;        // after FRMSD
-  double inlier_ratio = 0;             // kept / considered
+  double inlier_ratio = 0;             // kept / considered: FRMSD's trim fraction, in [frmsd_r_min, frmsd_r_max]
+  double matched_ratio = 0;            // reading points with a match in the last matching / reading points
   double residual_rms_m = 0;           // weighted RMS of the point-to-plane residuals kept
   // Of the left perturbation (tx, ty, tz, rx, ry, rz) of T_wl: translation in W,
   // rotation about the sensor origin in W axes; s²·H⁻¹ with s² the weighted

@@ -167,6 +167,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.converged = icp.converged;
     result.iterations = icp.iterations;
     result.inlier_ratio = icp.inlier_ratio;
+    result.matched_ratio = icp.matched_ratio;
     result.residual_rms_m = icp.residual_rms_m;
     result.covariance = icp.covariance;
     result.degeneracy = icp.degeneracy;

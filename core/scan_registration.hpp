@@ -108,6 +108,7 @@ struct ScanResult {
   bool converged = false;
   int iterations = 0;
   double inlier_ratio = 0;
+  double matched_ratio = 0;  // IcpResult::matched_ratio
   double residual_rms_m = 0;
   Degeneracy degeneracy;
   std::size_t points_in = 0;

@@ -82,6 +82,9 @@ struct RegistrationRecord {
   bool converged = false;
   double position_sigma_m = 0.0;  // for the fuser's velocity filter
   float inlier_ratio = 0.0f;
+  float matched_ratio = 0.0f;      // ICP points with a map match at the last iteration
+  float correction_m = 0.0f;       // ICP's pose from the IMU-propagated one, at the scan start
+  float correction_deg = 0.0f;
   float residual_m = 0.0f;
   float degeneracy = 0.0f;
   WeightModel model = WeightModel::GVTW;

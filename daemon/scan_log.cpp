@@ -8,17 +8,17 @@ namespace tumble::daemon {
 
 ScanLog::ScanLog(std::string path, const std::vector<std::string>& stage_names) : file_(std::move(path)) {
   fmt::print(file_.get(),
-             "scan_index,t_s,registered,converged,iterations,inlier_ratio,residual_m,degeneracy,points_in,points_used,"
-             "sigma_s_median_m");
+             "scan_index,t_s,registered,converged,iterations,inlier_ratio,residual_m,degeneracy,matched_ratio,"
+             "correction_m,correction_deg,points_in,points_used,sigma_s_median_m");
   for (const std::string& name : stage_names) fmt::print(file_.get(), ",{}_ms", name);
   fmt::print(file_.get(), ",total_ms,latency_ms\n");
 }
 
 void ScanLog::on_registration(const RegistrationRecord& r) {
   if (file_.get() == nullptr) return;
-  fmt::print(file_.get(), "{},{:.6f},{:d},{:d},{},{:.4f},{:.5f},{:.6g},{},{},{:.5f}", r.scan_index, r.t_s,
-             r.registered, r.converged, r.iterations, r.inlier_ratio, r.residual_m, r.degeneracy, r.points_in,
-             r.points_used, r.sigma_s_median_m);
+  fmt::print(file_.get(), "{},{:.6f},{:d},{:d},{},{:.4f},{:.5f},{:.6g},{:.4f},{:.5f},{:.4f},{},{},{:.5f}", r.scan_index,
+             r.t_s, r.registered, r.converged, r.iterations, r.inlier_ratio, r.residual_m, r.degeneracy,
+             r.matched_ratio, r.correction_m, r.correction_deg, r.points_in, r.points_used, r.sigma_s_median_m);
   float total_ms = 0.0f;
   for (std::size_t i = 0; i < r.num_stages; ++i) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);

@@ -210,6 +210,30 @@ TEST(Icp, FlagsACorridorDegenerateAlongItsAxis) {
   EXPECT_FALSE(icp.align(f.reading, f.map, f.truth).degeneracy.degenerate);
 }
 
+TEST(Icp, MatchedRatioIsTheShareOfReadingPointsNearTheMap) {
+  // The room's own samples match but those whose map normal is not valid
+  // (edges, corners); the same many again, 5 m above the room (beyond
+  // max_match_distance_m of any wall), match none: the share halves.
+  RoomFixture f(true);
+  Icp icp;
+  const double in_room = icp.align(f.reading, f.map, f.truth).matched_ratio;
+  EXPECT_GT(in_room, 0.85);
+  const std::size_t n = f.reading.size();
+  PointCloud doubled;
+  doubled.resize(2 * n);
+  const Eigen::Isometry3d T_lw = f.truth.inverse();
+  for (std::size_t i = 0; i < n; ++i) {
+    doubled.copy_point(i, f.reading, i);
+    doubled.copy_point(n + i, f.reading, i);
+    const Eigen::Vector3d p_w = f.truth * f.reading.points[i];
+    doubled.points[n + i] = T_lw * Eigen::Vector3d(p_w.x(), p_w.y(), f.room.interior.hi.z() + 5.0);
+  }
+  const IcpResult r = icp.align(doubled, f.map, f.truth);
+  EXPECT_DOUBLE_EQ(r.matched_ratio, in_room / 2);
+  // FRMSD's share stays within its range whatever the overlap: it cannot tell.
+  EXPECT_GE(r.inlier_ratio, 0.5);
+}
+
 TEST(Icp, NoMapMeansNoConvergence) {
   LocalMap empty;
   RoomFixture f(true, 0.4);
