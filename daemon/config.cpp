@@ -168,7 +168,7 @@ void visit_config(Visitor& v, Config& c) {
       v.field("degraded_to_lost_s", h.degraded_to_lost_s, Range{0.0, 600.0});
       v.field("lidar_silent_to_lost_s", h.lidar_silent_to_lost_s, Range{0.1, 600.0});
       v.field("good_scans_to_recover", h.good_scans_to_recover, IntRange{1, 1000});
-      v.field("min_inlier_ratio", h.min_inlier_ratio, Range{0.0, 1.0});
+      v.field("min_matched_ratio", h.min_matched_ratio, Range{0.0, 1.0});
       v.field("min_degeneracy", h.min_degeneracy, Range{0.0, 1.0});
     });
   });

@@ -130,7 +130,7 @@ struct HealthConfig {
   double degraded_to_lost_s = 3.0;
   double lidar_silent_to_lost_s = 1.0;
   int good_scans_to_recover = 5;
-  double min_inlier_ratio = 0.3;
+  double min_matched_ratio = 0.3;
   double min_degeneracy = 0.001;
   bool operator==(const HealthConfig&) const = default;
 };

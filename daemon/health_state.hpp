@@ -21,7 +21,7 @@
 // (a new local map continuing the last pose, core_stages.hpp), and a map that
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
-// registered and used (not untrusted), converged, inlier ratio >= min_inlier_ratio, degeneracy >= min_degeneracy,
+// registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
 // and the gyro not clipped about the lidar's spin axis (a bad scan for that
 // reason is reported as such).
 // "Data dropped": a ring dropped items or a scan was discarded in the period.

@@ -45,7 +45,7 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
 // A registration not used (untrusted: far from the IMU-propagated pose) may
 // have converged well: it is still no evidence that tracking holds.
 bool StatusAggregator::is_good(const RegistrationRecord& r) const {
-  return r.registered && r.converged && r.inlier_ratio >= health_.min_inlier_ratio &&
+  return r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
          r.degeneracy >= health_.min_degeneracy;
 }
 

@@ -102,8 +102,8 @@ TEST(ConfigErrors, OutOfRangeNamesKeyAndRange) {
   EXPECT_EQ(error_of("registration:\n  voxel_size_m: 0\n"), "registration.voxel_size_m: 0 is out of range (0.005..1)");
   EXPECT_EQ(error_of("lidar:\n  msop_port: 70000\n"), "lidar.msop_port: 70000 is out of range (1..65535)");
   EXPECT_EQ(error_of("lidar:\n  min_scan_coverage: 1.2\n"), "lidar.min_scan_coverage: 1.2 is out of range (0..1)");
-  EXPECT_EQ(error_of("daemon:\n  health:\n    min_inlier_ratio: 1.5\n"),
-            "daemon.health.min_inlier_ratio: 1.5 is out of range (0..1)");
+  EXPECT_EQ(error_of("daemon:\n  health:\n    min_matched_ratio: 1.5\n"),
+            "daemon.health.min_matched_ratio: 1.5 is out of range (0..1)");
   EXPECT_EQ(error_of("imu:\n  extrinsic_T_LI:\n    translation_m: [0, 11, 0]\n"),
             "imu.extrinsic_T_LI.translation_m[1]: 11 is out of range (-10..10)");
   EXPECT_EQ(error_of("registration:\n  voxel_size_m: .nan\n"),

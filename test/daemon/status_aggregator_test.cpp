@@ -53,6 +53,7 @@ class StatusAggregatorTest : public ::testing::Test {
     r.registered = true;
     r.converged = good;
     r.inlier_ratio = 0.6f;
+    r.matched_ratio = 0.6f;
     r.degeneracy = 0.5f;
     r.iterations = 10;
     r.num_stages = 2;
@@ -66,6 +67,7 @@ class StatusAggregatorTest : public ::testing::Test {
     r.converged = converged;
     r.registered = true;
     r.inlier_ratio = 0.6f;
+    r.matched_ratio = 0.6f;
     r.degeneracy = 0.5f;
     return r;
   }
@@ -334,6 +336,21 @@ TEST_F(StatusAggregatorTest, AnUntrustedRegistrationIsNotAGoodScan) {
   for (int i = 0; i < 5; ++i) reports_.push(untrusted);
   evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);  // five converged, none trusted: not recovered
+}
+
+TEST_F(StatusAggregatorTest, AScanThatFoundTooFewMapPointsIsNotGood) {
+  reports_.push(registered_scan(true));
+  evaluate_next_tick();
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  RegistrationRecord little_overlap = registered_scan(true);
+  little_overlap.matched_ratio = 0.29f;  // under daemon.health.min_matched_ratio (0.3)
+  reports_.push(little_overlap);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  for (int i = 0; i < 5; ++i) reports_.push(registered_scan(true));
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
 }
 
 // The registration resets only with the first scan after the silence, so

@@ -237,6 +237,7 @@ class FakeRegistration : public RegistrationStage {
     out.registered = true;
     out.converged = true;
     out.inlier_ratio = 0.6f;
+    out.matched_ratio = 0.6f;
     out.degeneracy = 0.5f;
     out.num_stages = 2;
     out.stage_ms = {0.5f, 2.0f};
