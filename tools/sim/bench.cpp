@@ -182,8 +182,8 @@ constexpr LongRoute kLongRoutes[] = {
 
 // The cage pulled out and rolled back to where it started, with bounces and
 // jolts all the way: >= 50 m and >= 60 s at <= 0.9 m/s.
-YAML::Node long_cage_motion(SensorRng& rng, const LongRoute& route) {
-  const double rate = rng.uniform(2.5, 3.0);
+YAML::Node long_cage_motion(SensorRng& rng, const LongRoute& route, double& rate) {
+  rate = rng.uniform(2.5, 3.0);
   const double out_m = rng.uniform(26.0, route.max_out_m);
   const double pull_accel = rng.uniform(5.0, 15.0);
   // A raised-cosine ramp between rest and the rate covers rate^2 / accel of
@@ -230,8 +230,8 @@ YAML::Node walk_leg(double distance_m, double speed_m_s, bool static_start, bool
 }
 
 // Hand-held: walk out, turn around in place, walk back (>= 60 s at <= 1 m/s).
-YAML::Node long_walk_motion(SensorRng& rng, const LongRoute& route) {
-  const double speed = rng.uniform(0.9, 1.0);
+YAML::Node long_walk_motion(SensorRng& rng, const LongRoute& route, double& speed) {
+  speed = rng.uniform(0.9, 1.0);
   const double out_m = rng.uniform(std::max(28.0, 31.0 * speed), route.max_out_m + 2.0);
   YAML::Node turn;
   turn["type"] = "turntable";
@@ -318,10 +318,12 @@ std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed) {
   for (const LongRoute& route : kLongRoutes) {
     for (int k = 0; k < kBenchLongRunsPerScene; ++k) {
       const bool cage = k % 2 == 0;
-      YAML::Node motion = cage ? long_cage_motion(rng, route) : long_walk_motion(rng, route);
+      double nominal_speed = 0.0;  // the cage's roll rate out, the walker's speed
+      YAML::Node motion = cage ? long_cage_motion(rng, route, nominal_speed) : long_walk_motion(rng, route, nominal_speed);
       char name[64];
       std::snprintf(name, sizeof name, "long-%02d-%s-%s", ++long_index, route.scene, cage ? "cage" : "walk");
-      BenchRun run{name, "long", 0.0, "m/s", scenario_node(route.scene, motion, rng.next_u64(), seed, ++index)};
+      BenchRun run{name, "long", nominal_speed, cage ? "rad/s" : "m/s",
+                   scenario_node(route.scene, motion, rng.next_u64(), seed, ++index)};
       turn_on_error_sources(run.scenario, offset_s, cage);
       plan.push_back(std::move(run));
     }

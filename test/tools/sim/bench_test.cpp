@@ -146,6 +146,9 @@ TEST(RealisticBench, LongRunsGoOutAtLeast25mAndComeBackInAMinuteOrMore) {
     ++scenes[run.scenario["scene"].as<std::string>()];
     const auto motion = motion_of(run);
     EXPECT_GE(motion->duration_s(), 60.0);
+    const bool cage = run.scenario["motion"]["type"].as<std::string>() == "rolling_cage";
+    EXPECT_EQ(run.speed_unit, cage ? "rad/s" : "m/s");
+    EXPECT_GT(run.nominal_speed, 0.8);
     const Eigen::Vector3d start = motion->at(0.0).T_wb.translation();
     double path_m = 0.0, farthest_m = 0.0;
     Eigen::Vector3d previous = start;
