@@ -8,6 +8,7 @@
 #include <exception>
 #include <fstream>
 #include <mutex>
+#include <numbers>
 #include <thread>
 
 #include "tools/sim/run_writer.hpp"
@@ -152,18 +153,119 @@ BenchRun cage_run(SensorRng& rng, int cage_index, int index, std::uint64_t bench
   return {name, "rolling_cage", rate, "rad/s", scenario_node(kBenchScene, m, rng.next_u64(), bench_seed, index)};
 }
 
+// Every error source of the sensor models on at its default (datasheet) magnitude.
+void turn_on_error_sources(YAML::Node& scenario, double imu_time_offset_s, bool in_cage) {
+  for (const char* key : {"scale_factor_error", "misalignment", "g_sensitivity", "temperature_drift", "timestamp_jitter"})
+    scenario["imu"][key] = true;
+  for (const char* key : {"range_offset_error", "intensity_range_bias", "dark_surface_dropout"}) scenario["lidar"][key] = true;
+  if (in_cage) {
+    // The lidar sits 5 cm above the cage's centre (cage_run's mount), its
+    // roll axis along y.
+    YAML::Node bars;
+    bars["cage_radius_m"] = kCageRadiusM;
+    bars["centre_m"] = flow({0.0, 0.0, -0.05});
+    scenario["lidar"]["cage_bars"] = bars;
+  }
+  scenario["extrinsics"]["imu_time_offset_s"] = imu_time_offset_s;
+}
+
+// Scenes and out-and-back routes for the long runs: start, heading and the
+// way out along it, all in the clear (garage lane, corridor, the yard's open
+// strip at y = 10 m between the light poles).
+// The corridor's walls are 1.2 m either side: straight down it.
+struct LongRoute {
+  const char* scene;
+  double x_m, y_m, max_out_m, max_yaw_deg;
+};
+constexpr LongRoute kLongRoutes[] = {
+    {"garage", -14.0, 0.0, 28.0, 3.0}, {"corridor", -20.0, 0.0, 40.0, 0.0}, {"yard", -15.0, 10.0, 28.0, 3.0}};
+
+// The cage pulled out and rolled back to where it started, with bounces and
+// jolts all the way: >= 50 m and >= 60 s at <= 0.9 m/s.
+YAML::Node long_cage_motion(SensorRng& rng, const LongRoute& route, double& rate) {
+  rate = rng.uniform(2.5, 3.0);
+  const double out_m = rng.uniform(26.0, route.max_out_m);
+  const double pull_accel = rng.uniform(5.0, 15.0);
+  // A raised-cosine ramp between rest and the rate covers rate^2 / accel of
+  // roll angle, and so does each half of the reversal: hold for the rest.
+  const double hold_s = (out_m / kCageRadiusM - 2.0 * rate * rate / pull_accel) / rate;
+  YAML::Node m;
+  m["type"] = "rolling_cage";
+  m["origin"] = pose({route.x_m, route.y_m, 0.0}, {0.0, 0.0, rng.uniform(-route.max_yaw_deg, route.max_yaw_deg)});
+  m["radius_m"] = kCageRadiusM;
+  m["mount"] = pose({0.0, 0.0, 0.05});
+  m["roll"].push_back(hold(kBenchStaticStartS));
+  m["roll"].push_back(ramp(rate, pull_accel, true));
+  m["roll"].push_back(hold(hold_s));
+  m["roll"].push_back(ramp(-rate, pull_accel, true));
+  m["roll"].push_back(hold(hold_s));
+  m["roll"].push_back(ramp(0.0, pull_accel, true));
+  m["roll"].push_back(hold(1.0));
+  m["seed"] = rng.next_u64() >> 1;
+  m["min_gap_s"] = 0.5;
+  YAML::Node bounces;
+  bounces["count"] = static_cast<int>(rng.uniform(4.0, 9.0));
+  bounces["height_m"] = flow({0.02, 0.1});
+  bounces["peak_m_s2"] = flow({100.0, 200.0});
+  m["bounces"] = bounces;
+  YAML::Node jolts;
+  jolts["count"] = static_cast<int>(rng.uniform(4.0, 9.0));
+  jolts["swing_rad_s"] = flow({0.2, 1.0});
+  jolts["peak_rad_s2"] = flow({300.0, 800.0});
+  m["jolts"] = jolts;
+  return m;
+}
+
+YAML::Node walk_leg(double distance_m, double speed_m_s, bool static_start, bool static_end) {
+  YAML::Node travel;
+  travel["distance_m"] = distance_m;
+  travel["max_m_s"] = speed_m_s;
+  travel["peak_m_s2"] = 0.8;
+  YAML::Node leg;
+  leg["type"] = "walk";
+  if (static_start) leg["forward"].push_back(hold(kBenchStaticStartS));
+  leg["forward"].push_back(step("travel", travel));
+  if (static_end) leg["forward"].push_back(hold(1.0));
+  return leg;
+}
+
+// Hand-held: walk out, turn around in place, walk back (>= 60 s at <= 1 m/s).
+YAML::Node long_walk_motion(SensorRng& rng, const LongRoute& route, double& speed) {
+  speed = rng.uniform(0.9, 1.0);
+  const double out_m = rng.uniform(std::max(28.0, 31.0 * speed), route.max_out_m + 2.0);
+  YAML::Node turn;
+  turn["type"] = "turntable";
+  YAML::Node about;
+  about["angle_rad"] = std::numbers::pi;
+  about["max_rad_s"] = 1.5;
+  about["peak_rad_s2"] = 3.0;
+  turn["profile"].push_back(step("travel", about));
+  YAML::Node m;
+  m["type"] = "sequence";
+  m["origin"] = pose({route.x_m, route.y_m, 1.3}, {0.0, 0.0, rng.uniform(-route.max_yaw_deg, route.max_yaw_deg)});
+  m["parts"].push_back(walk_leg(out_m, speed, true, false));
+  m["parts"].push_back(turn);
+  m["parts"].push_back(walk_leg(out_m, speed, false, true));
+  return m;
+}
+
 struct RunResult {
   double duration_s = 0.0;
   std::string error;
 };
 
 void write_index(const std::vector<BenchRun>& plan, const std::vector<RunResult>& results, const fs::path& out,
-                 std::uint64_t seed) {
+                 const BenchOptions& options) {
+  const std::uint64_t seed = options.seed;
   YAML::Node index;
   index["format"] = "tumble-sim bench 1";
   index["seed"] = seed;
   index["lidar_unit_seed"] = seed;
   index["static_start_s"] = kBenchStaticStartS;
+  if (options.realistic) {
+    index["error_sources"] = "all on at their default magnitudes (tools/sim/README.md)";
+    index["imu_time_offset_s"] = realistic_rig_imu_time_offset_s(seed);
+  }
   std::ofstream csv(out / "bench.csv");
   csv << "name,kind,nominal_speed,speed_unit,duration_s,dir\n";
   for (std::size_t i = 0; i < results.size(); ++i) {
@@ -196,6 +298,36 @@ std::vector<BenchRun> plan_bench(std::uint64_t seed) {
     for (const double sign : {1.0, -1.0}) plan.push_back(turntable_run(rng, sign * w, ++index, seed));
   }
   for (int c = 1; c <= kBenchCageRuns; ++c) plan.push_back(cage_run(rng, c, ++index, seed));
+  return plan;
+}
+
+double realistic_rig_imu_time_offset_s(std::uint64_t seed) {
+  SensorRng rng(seed, "bench-rig");
+  const double magnitude_s = rng.uniform(0.002, 0.005);
+  return rng.chance(0.5) ? magnitude_s : -magnitude_s;
+}
+
+std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed) {
+  // The same runs as plan_bench (its own random stream), then the errors on.
+  std::vector<BenchRun> plan = plan_bench(seed);
+  const double offset_s = realistic_rig_imu_time_offset_s(seed);
+  for (BenchRun& run : plan) turn_on_error_sources(run.scenario, offset_s, run.kind == "rolling_cage");
+  SensorRng rng(seed, "bench-long-runs");
+  int index = static_cast<int>(plan.size());
+  int long_index = 0;
+  for (const LongRoute& route : kLongRoutes) {
+    for (int k = 0; k < kBenchLongRunsPerScene; ++k) {
+      const bool cage = k % 2 == 0;
+      double nominal_speed = 0.0;  // the cage's roll rate out, the walker's speed
+      YAML::Node motion = cage ? long_cage_motion(rng, route, nominal_speed) : long_walk_motion(rng, route, nominal_speed);
+      char name[64];
+      std::snprintf(name, sizeof name, "long-%02d-%s-%s", ++long_index, route.scene, cage ? "cage" : "walk");
+      BenchRun run{name, "long", nominal_speed, cage ? "rad/s" : "m/s",
+                   scenario_node(route.scene, motion, rng.next_u64(), seed, ++index)};
+      turn_on_error_sources(run.scenario, offset_s, cage);
+      plan.push_back(std::move(run));
+    }
+  }
   return plan;
 }
 
@@ -240,7 +372,7 @@ void write_bench(const std::vector<BenchRun>& plan, const fs::path& out, const B
     if (!r.error.empty()) throw std::runtime_error(r.error);
   }
   write_index(std::vector<BenchRun>(plan.begin(), plan.begin() + static_cast<std::ptrdiff_t>(count)), results, out,
-              options.seed);
+              options);
 }
 
 }  // namespace tumble::sim

@@ -15,6 +15,7 @@
 namespace tumble::sim {
 
 inline constexpr int kBenchCageRuns = 46;
+inline constexpr int kBenchLongRunsPerScene = 4;  // realistic bench: garage, corridor, yard
 inline constexpr double kBenchStaticStartS = 1.5;
 
 struct BenchRun {
@@ -30,9 +31,21 @@ struct BenchOptions {
   int jobs = 1;
   int max_runs = 0;            // > 0: only the first max_runs of the plan
   double max_duration_s = 0.0;  // > 0: cut every run to at most this long (quick looks, tests)
+  bool realistic = false;       // the plan came from plan_realistic_bench (recorded in bench.yaml)
 };
 
 std::vector<BenchRun> plan_bench(std::uint64_t seed);
+
+// bench2 (issue 15): the same rail, turntable and cage runs with every sensor
+// error source of tumble-sim on at its datasheet magnitude, the rig's
+// uncalibrated lidar-IMU time offset, the cage's bars in the lidar's view,
+// and long out-and-back runs (>= 60 s, >= 50 m) in the garage, the corridor
+// and the yard.
+std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed);
+
+// The rig's constant lidar-IMU time offset in a realistic bench: a few ms
+// either way, what an uncalibrated rig has (the same for all its runs).
+double realistic_rig_imu_time_offset_s(std::uint64_t seed);
 
 // Writes every run into out/<name>/ (scenario.yaml + the run's files), then
 // bench.yaml and bench.csv indexing them. Progress lines go to `progress`.

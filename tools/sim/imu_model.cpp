@@ -26,7 +26,50 @@ std::uint32_t clip(Eigen::Vector3d& v, double range, std::uint32_t first_bit) {
   return status;
 }
 
+Eigen::Vector3d normal3(SensorRng& rng, double sigma) {
+  const double x = rng.normal(sigma), y = rng.normal(sigma), z = rng.normal(sigma);
+  return {x, y, z};
+}
+
+// Small-angle non-orthogonality: each sensing axis leans towards the other two.
+Eigen::Matrix3d misaligned(SensorRng& rng, double sigma_rad) {
+  Eigen::Matrix3d m = Eigen::Matrix3d::Identity();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      if (r != c) m(r, c) = rng.normal(sigma_rad);
+  return m;
+}
+
 }  // namespace
+
+ImuUnitErrors draw_imu_unit_errors(const ImuConfig& c, std::uint64_t seed) {
+  // One stream per source: turning one on never moves another's draws.
+  ImuUnitErrors e;
+  if (c.misalignment) {
+    SensorRng rng(seed, "imu-misalignment");
+    e.gyro_sensing = misaligned(rng, c.misalignment_sigma_deg * kDegToRad);
+    e.accel_sensing = misaligned(rng, c.misalignment_sigma_deg * kDegToRad);
+  }
+  if (c.scale_factor_error) {
+    SensorRng rng(seed, "imu-scale-factor");
+    const Eigen::Vector3d gyro_gain = Eigen::Vector3d::Ones() + normal3(rng, c.gyro_scale_factor_sigma_pct * 1e-2);
+    const Eigen::Vector3d accel_gain = Eigen::Vector3d::Ones() + normal3(rng, c.accel_scale_factor_sigma_pct * 1e-2);
+    e.gyro_sensing = gyro_gain.asDiagonal() * e.gyro_sensing;
+    e.accel_sensing = accel_gain.asDiagonal() * e.accel_sensing;
+  }
+  if (c.g_sensitivity) {
+    SensorRng rng(seed, "imu-g-sensitivity");
+    const double sigma = c.gyro_g_sensitivity_deg_s_per_g * kDegToRad / kStandardGravity_m_s2;
+    for (int r = 0; r < 3; ++r)
+      for (int col = 0; col < 3; ++col) e.gyro_g_sensitivity_rad_s_per_m_s2(r, col) = rng.normal(sigma);
+  }
+  if (c.temperature_drift) {
+    SensorRng rng(seed, "imu-temperature-drift");
+    e.gyro_warm_up_drift_rad_s = normal3(rng, c.gyro_temperature_drift_deg_s * kDegToRad);
+    e.accel_warm_up_drift_m_s2 = normal3(rng, c.accel_temperature_drift_m_s2);
+  }
+  return e;
+}
 
 ImuKinematics imu_kinematics(const MotionState& body, const Eigen::Isometry3d& T_LI) {
   const Eigen::Vector3d& r = T_LI.translation();
@@ -44,7 +87,9 @@ double imu_sample_time_s(const ImuClock& clock, int rate_hz, std::uint64_t k) {
 
 ImuModel::ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI,
                    const Motion& motion, std::uint64_t noise_seed, bool noise_enabled)
-    : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"), noise_enabled_(noise_enabled) {
+    : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"),
+      jitter_rng_(noise_seed, "imu-timestamp-jitter"), errors_(draw_imu_unit_errors(config, noise_seed)),
+      noise_enabled_(noise_enabled) {
   gyro_bias_ = noise_enabled_ ? gaussian3(config_.gyro_initial_bias_sigma_deg_s * kDegToRad) : Eigen::Vector3d::Zero();
   accel_bias_ = noise_enabled_ ? gaussian3(config_.accel_initial_bias_sigma_m_s2) : Eigen::Vector3d::Zero();
   initial_gyro_bias_ = gyro_bias_;
@@ -59,10 +104,17 @@ Eigen::Vector3d ImuModel::gaussian3(double sigma) {
 bool ImuModel::next(double duration_s, ImuMeasurement& out) {
   const double t_s = imu_sample_time_s(clock_, config_.rate_hz, index_);
   if (t_s > duration_s) return false;
-  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s + clock_.imu_time_offset_s), T_LI_);
+  const double jitter_s =
+      config_.timestamp_jitter ? jitter_rng_.uniform(-config_.timestamp_jitter_s, config_.timestamp_jitter_s) : 0.0;
+  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s + clock_.imu_time_offset_s + jitter_s), T_LI_);
   out.t_s = t_s;
-  out.gyro_rad_s = ideal.omega_i;
-  out.accel_m_s2 = ideal.specific_force_i;
+  out.gyro_rad_s = errors_.gyro_sensing * ideal.omega_i + errors_.gyro_g_sensitivity_rad_s_per_m_s2 * ideal.specific_force_i;
+  out.accel_m_s2 = errors_.accel_sensing * ideal.specific_force_i;
+  if (config_.temperature_drift) {
+    const double warmed = 1.0 - std::exp(-(t_s - clock_.first_sample_s) / config_.warm_up_time_constant_s);
+    out.gyro_rad_s += warmed * errors_.gyro_warm_up_drift_rad_s;
+    out.accel_m_s2 += warmed * errors_.accel_warm_up_drift_m_s2;
+  }
   if (noise_enabled_) {
     // White noise of density N sampled at f has sigma N sqrt(f).
     const double sqrt_rate = std::sqrt(static_cast<double>(config_.rate_hz));

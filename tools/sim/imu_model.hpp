@@ -25,7 +25,51 @@ struct ImuConfig {
   double accel_bias_stability_ug = 15.0;
   double gyro_range_deg_s = 450.0;
   double accel_range_m_s2 = 200.0;
+
+  // Error sources a calibrated unit still has, each off unless a scenario
+  // turns it on (today's runs stay as they were). Magnitudes are 1 sigma per
+  // axis, drawn once per run from the noise seed, each from its own stream.
+  // Sources: MTi User Manual, MTi 10-series and 100-series, document MT0605P
+  // (2018.E/2019.A), §4 sensor specifications and §5.2.1; Xsens base article
+  // 203307252 "Bias repeatability of gyroscopes".
+  // Scale factor: MT0605P gives no residual gain error after the factory
+  // calibration, only the non-linearity (gyro 0.03 % FS, accelerometer 0.1 % FS),
+  // which is used as the gain error's sigma.
+  bool scale_factor_error = false;
+  double gyro_scale_factor_sigma_pct = 0.03;
+  double accel_scale_factor_sigma_pct = 0.1;
+  // Non-orthogonality of the sensing axes: MT0605P §5.2.1, "< 0.05 deg".
+  // Each triad (gyro, accelerometer) gets its own small off-diagonal terms.
+  bool misalignment = false;
+  double misalignment_sigma_deg = 0.05;
+  // Gyro rate error per g of specific force, MT0605P gyroscope table:
+  // g-sensitivity (calibrated) 0.006 deg/s/g for the 10-series (the MTi-300's
+  // vibration-rejecting gyros: 0.003). A 3x3 matrix, every entry this sigma.
+  bool g_sensitivity = false;
+  double gyro_g_sensitivity_deg_s_per_g = 0.006;
+  // The bias moving as the unit warms up over a run: an exponential approach
+  // to a drawn offset. Size: the bias repeatability (the turn-on sigmas above,
+  // 0.2 deg/s and 0.02 m/s2), which Xsens attributes partly to the warm-up;
+  // time constant: the "at least 5 minutes" warm-up of the same article.
+  bool temperature_drift = false;
+  double gyro_temperature_drift_deg_s = 0.2;
+  double accel_temperature_drift_m_s2 = 0.02;
+  double warm_up_time_constant_s = 300.0;
+  // Where the sample is really taken against its SampleTimeFine: uniform in
+  // +-half a tick of the 10 kHz clock (mti.md), the resolution of the stamp.
+  bool timestamp_jitter = false;
+  double timestamp_jitter_s = 50e-6;
 };
+
+// The unit errors drawn for one run (identity / zero where a source is off).
+struct ImuUnitErrors {
+  Eigen::Matrix3d gyro_sensing = Eigen::Matrix3d::Identity();   // reading = this * true rate
+  Eigen::Matrix3d accel_sensing = Eigen::Matrix3d::Identity();  // reading = this * true specific force
+  Eigen::Matrix3d gyro_g_sensitivity_rad_s_per_m_s2 = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d gyro_warm_up_drift_rad_s = Eigen::Vector3d::Zero();  // reached after a long warm-up
+  Eigen::Vector3d accel_warm_up_drift_m_s2 = Eigen::Vector3d::Zero();
+};
+ImuUnitErrors draw_imu_unit_errors(const ImuConfig& config, std::uint64_t seed);
 
 // The device clock of one run.
 struct ImuClock {
@@ -64,7 +108,8 @@ struct ImuMeasurement {
 class ImuModel {
  public:
   // noise_enabled = false gives the ideal readings (bias, noise and bias walk
-  // off), still clipped at the range like the device.
+  // off), still clipped at the range like the device; the error sources of
+  // ImuConfig apply either way when they are on.
   ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI, const Motion& motion,
            std::uint64_t noise_seed, bool noise_enabled);
 
@@ -73,6 +118,7 @@ class ImuModel {
 
   const Eigen::Vector3d& initial_gyro_bias_rad_s() const { return initial_gyro_bias_; }
   const Eigen::Vector3d& initial_accel_bias_m_s2() const { return initial_accel_bias_; }
+  const ImuUnitErrors& unit_errors() const { return errors_; }
 
  private:
   Eigen::Vector3d gaussian3(double sigma);
@@ -82,6 +128,8 @@ class ImuModel {
   Eigen::Isometry3d T_LI_;
   const Motion& motion_;
   SensorRng rng_;
+  SensorRng jitter_rng_;
+  ImuUnitErrors errors_;
   bool noise_enabled_;
   std::uint64_t index_ = 0;
   Eigen::Vector3d gyro_bias_, accel_bias_;

@@ -11,6 +11,11 @@
 namespace tumble::sim {
 namespace {
 
+// Scene objects of material specular return only within this angle of normal
+// incidence, about the beam's own divergence (elsewhere the beam is reflected
+// away from the sensor); glass lets it through to what is behind.
+constexpr double kSpecularLobeDeg = 2.0;
+
 const rs16::ChannelTiming kSingleReturnTiming = rs16::channel_timing(rs16::ReturnMode::Strongest);
 
 double wrap_deg(double a) {
@@ -18,9 +23,32 @@ double wrap_deg(double a) {
   return a < 0 ? a + 360.0 : a;
 }
 
+// The cage bars as cylinders in L, evenly around the roll axis.
+Scene cage_bar_scene(const CageBars& bars) {
+  if (!bars.enabled) return Scene();
+  const Eigen::Vector3d axis = bars.axis_l.normalized();
+  const Eigen::Vector3d across = axis.unitOrthogonal();
+  const Eigen::Vector3d third = axis.cross(across);
+  std::vector<Primitive> primitives;
+  for (int k = 0; k < bars.count; ++k) {
+    const double phi = 2.0 * std::numbers::pi * k / bars.count;
+    Primitive bar;
+    bar.shape = Shape::Cylinder;
+    bar.radius_m = bars.bar_radius_m;
+    bar.half_size.z() = 0.5 * bars.length_m;
+    bar.reflectivity = bars.reflectivity;
+    bar.pose_w.linear() = Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), axis).toRotationMatrix();
+    bar.pose_w.translation() = bars.centre_l + bars.cage_radius_m * (std::cos(phi) * across + std::sin(phi) * third);
+    bar.name = "cage bar " + std::to_string(k);
+    primitives.push_back(bar);
+  }
+  return Scene(std::move(primitives), "cage bars");
+}
+
 }  // namespace
 
-LidarUnit make_lidar_unit(std::uint64_t unit_seed, double vertical_offset_sigma_deg) {
+LidarUnit make_lidar_unit(std::uint64_t unit_seed, const LidarConfig& config) {
+  const double vertical_offset_sigma_deg = config.vertical_offset_sigma_deg;
   SensorRng rng(unit_seed, "lidar-unit");
   LidarUnit unit;
   for (std::size_t i = 0; i < unit.vertical_angles_deg.size(); ++i) {
@@ -30,6 +58,11 @@ LidarUnit make_lidar_unit(std::uint64_t unit_seed, double vertical_offset_sigma_
     unit.vertical_angles_deg[i] = std::round((rs16::kDesignVerticalAnglesDeg[i] + offset) * 1e4) / 1e4;
   }
   for (auto& b : unit.serial) b = static_cast<std::uint8_t>(rng.next_u64() & 0xFF);
+  if (config.range_offset_error) {
+    SensorRng offsets(unit_seed, "lidar-unit-range-offset");
+    const double sigma = config.range_offset_sigma_m;
+    for (auto& o : unit.range_offsets_m) o = std::clamp(offsets.normal(sigma), -3 * sigma, 3 * sigma);
+  }
   return unit;
 }
 
@@ -65,6 +98,7 @@ LidarModel::LidarModel(const LidarConfig& config, const LidarUnit& unit, const S
     : config_(config),
       unit_(unit),
       scene_(scene),
+      body_(cage_bar_scene(config.cage_bars)),
       motion_(motion),
       rng_(noise_seed, "lidar-returns"),
       azimuth_at_zero_deg_(azimuth_at_zero_deg),
@@ -85,24 +119,65 @@ void LidarModel::fill_packet(std::int64_t first_firing_ns, rs16::MsopPacketData&
   }
 }
 
+std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const {
+  const Eigen::Vector3d direction_w = T_wl.linear() * beam.direction_l;
+  Eigen::Vector3d origin_w = T_wl * beam.origin_l;
+  double travelled_m = 0.0;
+  std::optional<Hit> hit;
+  // Through glass panes one after another (a few at most in any scene).
+  for (int pane = 0; pane < 8; ++pane) {
+    hit = scene_.cast(origin_w, direction_w, limit_m - travelled_m);
+    if (!hit || hit->material != Material::Glass) break;
+    constexpr double kPastThePane_m = 1e-6;
+    travelled_m += hit->range_m + kPastThePane_m;
+    origin_w += (hit->range_m + kPastThePane_m) * direction_w;
+    hit.reset();
+  }
+  if (hit) {
+    hit->range_m += travelled_m;
+    if (hit->material == Material::Specular &&
+        std::abs(direction_w.dot(hit->normal_w)) < std::cos(kSpecularLobeDeg * kDegToRad)) {
+      hit.reset();
+    }
+  }
+  if (!body_.primitives().empty()) {
+    // The body is fixed in L: cast there; the normal goes to W for the incidence.
+    if (auto bar = body_.cast(beam.origin_l, beam.direction_l, hit ? hit->range_m : limit_m)) {
+      bar->normal_w = T_wl.linear() * bar->normal_w;
+      hit = bar;
+    }
+  }
+  return hit;
+}
+
 rs16::ChannelReturn LidarModel::fire(double t_s, double azimuth_deg, int laser) {
-  const Beam beam = rs16_beam(azimuth_deg, unit_.vertical_angles_deg[static_cast<std::size_t>(laser)]);
+  const auto laser_index = static_cast<std::size_t>(laser);
+  const Beam beam = rs16_beam(azimuth_deg, unit_.vertical_angles_deg[laser_index]);
   const Eigen::Isometry3d T_wl = motion_.at(t_s).T_wb;
   const Eigen::Vector3d direction_w = T_wl.linear() * beam.direction_l;
   // Noise can push a return past max range or below min range: cast a little
   // further so the limits act on what the unit measures.
   const double cast_limit_m = config_.max_range_m + 5.0 * config_.range_noise_m;
-  const auto hit = scene_.cast(T_wl * beam.origin_l, direction_w, cast_limit_m);
+  const auto hit = first_return(T_wl, beam, cast_limit_m);
   // Draw the noise for every firing so one return's fate never shifts the
   // noise of the next (keeps runs comparable when a scene changes slightly).
   const double noise_m = rng_.normal(config_.range_noise_m);
   const bool dropped = rng_.chance(config_.dropout_probability);
   if (!hit || dropped) return {};
-  const double range_m = hit->range_m + noise_m;
-  if (range_m < config_.min_range_m || range_m > config_.max_range_m) return {};
   const double cos_incidence = std::min(1.0, std::abs(direction_w.dot(hit->normal_w)));
   // 0..100 is the unit's diffuse scale; retro-reflectors (reflectivity > 1) go above.
   const double reflectivity = 100.0 * hit->reflectivity * std::pow(cos_incidence, config_.incidence_falloff_exponent);
+  const double effective_reflectivity = reflectivity / 100.0;
+  if (config_.dark_surface_dropout &&
+      hit->range_m > config_.range_at_reference_reflectivity_m *
+                         std::sqrt(effective_reflectivity / config_.reference_reflectivity)) {
+    return {};
+  }
+  double range_m = hit->range_m + noise_m + unit_.range_offsets_m[laser_index];
+  if (config_.intensity_range_bias) {
+    range_m += config_.intensity_range_walk_m * (0.5 - std::min(effective_reflectivity, 1.0));
+  }
+  if (range_m < config_.min_range_m || range_m > config_.max_range_m) return {};
   const auto reflectivity_u8 = static_cast<std::uint8_t>(std::clamp(std::lround(reflectivity), 1L, 255L));
   return rs16::ChannelReturn{range_m, reflectivity_u8};
 }

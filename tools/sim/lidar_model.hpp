@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <optional>
 
 #include "drivers/rs16/msop_encode.hpp"
 #include "tools/sim/motion.hpp"
@@ -23,6 +24,21 @@ inline constexpr std::int64_t kRs16PacketPeriodNs = 12 * kRs16BlockPeriodNs;
 // From the packet's first firing (its header time) to its last.
 inline constexpr std::int64_t kRs16PacketSpanNs = 11 * kRs16BlockPeriodNs + kRs16SequencePeriodNs + 15 * kRs16LaserSpacingNs;
 
+// The robot's own body in the lidar frame: bars of a rolling cage, parallel to
+// its roll axis on a circle around it, fixed in frame B (the lidar turns with
+// the cage). A beam that meets a bar stops there: a return if the bar is
+// beyond min_range_m, none (a lost point) if it is nearer.
+struct CageBars {
+  bool enabled = false;
+  int count = 8;
+  double cage_radius_m = 0.3;  // the bench's cage (bench.cpp)
+  double bar_radius_m = 0.01;  // 20 mm tube
+  double length_m = 0.6;
+  Eigen::Vector3d axis_l = Eigen::Vector3d::UnitY();  // the roll axis in L
+  Eigen::Vector3d centre_l = Eigen::Vector3d::Zero(); // the cage centre in L
+  double reflectivity = 0.3;                          // painted steel
+};
+
 struct LidarConfig {
   int rpm = 600;                           // 300, 600 or 1200
   double range_noise_m = 0.02;             // 1 sigma, along the beam
@@ -32,14 +48,38 @@ struct LidarConfig {
   double incidence_falloff_exponent = 1.0;  // reflectivity ~ surface * cos(incidence)^k
   double vertical_offset_sigma_deg = 0.1;  // per-unit deviation of each laser from its design angle
   double temperature_c = 38.0;
+
+  // Error sources beyond noise and the vertical angles, each off unless a
+  // scenario turns it on (today's runs stay as they were). Source: RS-LiDAR-16
+  // user manual (v4.x), §2 specifications: range accuracy "up to +-2 cm
+  // (typical)", measurement range 150 m on a 20 % reflective target.
+  // Per-laser range offset left by the unit's calibration: each laser
+  // reads N(0, sigma) long, clamped at 3 sigma, the same for every run of a
+  // unit. sigma = 1 cm puts the manual's +-2 cm at 2 sigma.
+  bool range_offset_error = false;
+  double range_offset_sigma_m = 0.01;
+  // Range walk of the threshold detector: a weak echo crosses the threshold
+  // late and reads long, a strong one short. The range bias is
+  // walk * (0.5 - effective reflectivity), so the spread between a black and a
+  // white diffuse surface is the manual's 2 cm accuracy.
+  bool intensity_range_bias = false;
+  double intensity_range_walk_m = 0.02;
+  // Dark surfaces: the echo of a diffuse target of reflectivity r falls as
+  // r / d^2, so the unit sees it out to 150 m * sqrt(r / 0.2) (the manual's
+  // range at 20 %); beyond, no return. r includes the incidence falloff.
+  bool dark_surface_dropout = false;
+  double range_at_reference_reflectivity_m = 150.0;
+  double reference_reflectivity = 0.2;
+  CageBars cage_bars;
 };
 
 // What makes one physical unit differ from the design: drawn once per unit seed.
 struct LidarUnit {
   std::array<double, 16> vertical_angles_deg{};  // on the DIFOP's 0.0001 deg grid
   std::array<std::uint8_t, 6> serial{};
+  std::array<double, 16> range_offsets_m{};  // zero unless range_offset_error
 };
-LidarUnit make_lidar_unit(std::uint64_t unit_seed, double vertical_offset_sigma_deg);
+LidarUnit make_lidar_unit(std::uint64_t unit_seed, const LidarConfig& config);
 
 // The beam of one firing in the lidar frame: it leaves the optical centre,
 // R = 0.03825 m out along the azimuth, so that the decoder's
@@ -72,10 +112,14 @@ class LidarModel {
 
  private:
   rs16::ChannelReturn fire(double t_s, double azimuth_deg, int laser);
+  // The nearest surface a beam returns from: the world (through glass, not
+  // from a mirror seen off-normal) or the robot's body.
+  std::optional<Hit> first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
 
   LidarConfig config_;
   LidarUnit unit_;
   const Scene& scene_;
+  Scene body_;  // the cage bars in L; empty when off
   const Motion& motion_;
   SensorRng rng_;
   double azimuth_at_zero_deg_;

@@ -135,6 +135,9 @@ int main(int argc, char** argv) {
   bench->add_option("--jobs", bench_options.jobs, "runs generated in parallel")->check(CLI::Range(1, 64));
   bench->add_option("--runs", bench_options.max_runs, "write only the first N runs of the plan")
       ->check(CLI::PositiveNumber);
+  bench->add_flag("--realistic", bench_options.realistic,
+                  "bench2: every sensor error source on, the rig's lidar-IMU time offset, the cage's bars, "
+                  "and 12 long out-and-back runs in the garage, corridor and yard");
   bench->add_option("--max-duration", bench_options.max_duration_s, "cut every run to at most this many seconds")
       ->check(CLI::PositiveNumber);
 
@@ -206,7 +209,8 @@ int main(int argc, char** argv) {
       return command_run(scenario, out_dir);
     }
     if (bench->parsed()) {
-      write_bench(plan_bench(bench_options.seed), out_dir, bench_options, std::cerr);
+      write_bench(bench_options.realistic ? plan_realistic_bench(bench_options.seed) : plan_bench(bench_options.seed),
+                  out_dir, bench_options, std::cerr);
       return 0;
     }
     if (faults->parsed()) {

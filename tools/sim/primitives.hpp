@@ -17,6 +17,11 @@ enum class Shape {
   Cylinder,   // axis = local z, |z| <= half_size.z, radius; optional end caps
 };
 
+// How a surface returns a lidar beam. Diffuse: everywhere, by reflectivity;
+// specular (polished metal, a mirror): only near normal incidence, the rest
+// goes away from the sensor; glass: the beam goes through to what is behind.
+enum class Material { Diffuse, Specular, Glass };
+
 struct Primitive {
   Shape shape = Shape::Plane;
   Eigen::Isometry3d pose_w = Eigen::Isometry3d::Identity();  // local -> world
@@ -24,6 +29,7 @@ struct Primitive {
   double radius_m = 0;                                        // Cylinder only
   bool capped = true;                                         // Cylinder only
   double reflectivity = 0.5;                                  // 0..1 (lidar models map to 0..255)
+  Material material = Material::Diffuse;
   std::string name;                                           // for messages and debugging only
 };
 

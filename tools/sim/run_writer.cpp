@@ -132,6 +132,10 @@ void write_manifest(const SimRun& run, const RunSummary& summary, const fs::path
   lidar["unit_seed"] = s.lidar_unit_seed.value_or(s.seed);
   lidar["vertical_angles_deg"] =
       flow(std::vector<double>(run.lidar_unit().vertical_angles_deg.begin(), run.lidar_unit().vertical_angles_deg.end()));
+  if (s.lidar.range_offset_error) {
+    lidar["range_offsets_m"] =
+        flow(std::vector<double>(run.lidar_unit().range_offsets_m.begin(), run.lidar_unit().range_offsets_m.end()));
+  }
   lidar["first_packet_s"] = static_cast<double>(run.lidar_timing().first_packet_ns) * 1e-9;
   lidar["first_difop_s"] = static_cast<double>(run.lidar_timing().first_difop_ns) * 1e-9;
   lidar["azimuth_at_zero_deg"] = run.lidar_timing().azimuth_at_zero_deg;
@@ -151,6 +155,20 @@ void write_manifest(const SimRun& run, const RunSummary& summary, const fs::path
   const ImuStream probe = run.imu_stream();
   imu["initial_gyro_bias_rad_s"] = flow(probe.model().initial_gyro_bias_rad_s());
   imu["initial_accel_bias_m_s2"] = flow(probe.model().initial_accel_bias_m_s2());
+  // The unit errors drawn for this run, where a source is on (an estimator's answer key).
+  const ImuUnitErrors& errors = probe.model().unit_errors();
+  const auto matrix = [](const Eigen::Matrix3d& a) {
+    return flow(std::vector<double>{a(0, 0), a(0, 1), a(0, 2), a(1, 0), a(1, 1), a(1, 2), a(2, 0), a(2, 1), a(2, 2)});
+  };
+  if (s.imu.scale_factor_error || s.imu.misalignment) {
+    imu["gyro_sensing_matrix"] = matrix(errors.gyro_sensing);
+    imu["accel_sensing_matrix"] = matrix(errors.accel_sensing);
+  }
+  if (s.imu.g_sensitivity) imu["gyro_g_sensitivity_rad_s_per_m_s2"] = matrix(errors.gyro_g_sensitivity_rad_s_per_m_s2);
+  if (s.imu.temperature_drift) {
+    imu["gyro_warm_up_drift_rad_s"] = flow(errors.gyro_warm_up_drift_rad_s);
+    imu["accel_warm_up_drift_m_s2"] = flow(errors.accel_warm_up_drift_m_s2);
+  }
   imu["frames"] = summary.imu_frames;
   imu["reads"] = summary.imu_reads;
   imu["clipped_frames"] = summary.imu_clipped_frames;

@@ -90,11 +90,28 @@ Eigen::Isometry3d read_pose(const YAML::Node& pose, const YamlPath& at) {
                                read_vec3(pose, at, "rpy_deg", Eigen::Vector3d::Zero()));
 }
 
+// The section's presence turns the bars on; `cage_bars: {}` is the bench's cage.
+void read_cage_bars(const YAML::Node& m, const YamlPath& at, CageBars& bars) {
+  check_keys(m, at, {"count", "cage_radius_m", "bar_radius_m", "length_m", "axis", "centre_m", "reflectivity"});
+  bars.enabled = true;
+  bars.count = read_int_in(m, at, "count", bars.count, 1, 64);
+  bars.cage_radius_m = read_in(m, at, "cage_radius_m", bars.cage_radius_m, 0.05, 5.0);
+  bars.bar_radius_m = read_in(m, at, "bar_radius_m", bars.bar_radius_m, 0.001, 0.2);
+  if (bars.bar_radius_m >= bars.cage_radius_m) at.key("bar_radius_m").fail("must be below cage_radius_m");
+  bars.length_m = read_in(m, at, "length_m", bars.length_m, 0.01, 10.0);
+  bars.axis_l = read_vec3(m, at, "axis", bars.axis_l);
+  if (!(bars.axis_l.norm() > 1e-9)) at.key("axis").fail("must be a nonzero vector");
+  bars.centre_l = read_vec3(m, at, "centre_m", bars.centre_l);
+  bars.reflectivity = read_in(m, at, "reflectivity", bars.reflectivity, 0.0, 1.0);
+}
+
 void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   check_keys(m, at,
              {"rpm", "range_noise_m", "min_range_m", "max_range_m", "dropout_probability", "incidence_falloff_exponent",
               "vertical_offset_sigma_deg", "temperature_c", "unit_seed", "msop_port", "difop_port", "network_latency_s",
-              "network_jitter_s", "difop_period_s", "difop_phase_s"});
+              "network_jitter_s", "difop_period_s", "difop_phase_s", "range_offset_error", "range_offset_sigma_m",
+              "intensity_range_bias", "intensity_range_walk_m", "dark_surface_dropout",
+              "range_at_reference_reflectivity_m", "reference_reflectivity", "cage_bars"});
   LidarConfig& c = s.lidar;
   LidarLinkConfig& link = s.lidar_link;
   c.rpm = read_int_in(m, at, "rpm", c.rpm, 300, 1200);
@@ -108,6 +125,15 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.vertical_offset_sigma_deg = read_in(m, at, "vertical_offset_sigma_deg", c.vertical_offset_sigma_deg, 0.0, 1.0);
   c.temperature_c = read_in(m, at, "temperature_c", c.temperature_c, -40.0, 100.0);
   if (has_key(m, "unit_seed")) s.lidar_unit_seed = read_seed(m, at, "unit_seed", 0);
+  c.range_offset_error = read_bool(m, at, "range_offset_error", c.range_offset_error);
+  c.range_offset_sigma_m = read_in(m, at, "range_offset_sigma_m", c.range_offset_sigma_m, 0.0, 1.0);
+  c.intensity_range_bias = read_bool(m, at, "intensity_range_bias", c.intensity_range_bias);
+  c.intensity_range_walk_m = read_in(m, at, "intensity_range_walk_m", c.intensity_range_walk_m, 0.0, 1.0);
+  c.dark_surface_dropout = read_bool(m, at, "dark_surface_dropout", c.dark_surface_dropout);
+  c.range_at_reference_reflectivity_m =
+      read_in(m, at, "range_at_reference_reflectivity_m", c.range_at_reference_reflectivity_m, 1.0, 1000.0);
+  c.reference_reflectivity = read_in(m, at, "reference_reflectivity", c.reference_reflectivity, 0.01, 1.0);
+  if (has_key(m, "cage_bars")) read_cage_bars(section(m, "cage_bars"), at.key("cage_bars"), c.cage_bars);
   link.msop_port = static_cast<std::uint16_t>(read_int_in(m, at, "msop_port", link.msop_port, 1, 65535));
   link.difop_port = static_cast<std::uint16_t>(read_int_in(m, at, "difop_port", link.difop_port, 1, 65535));
   link.network_latency_s = read_in(m, at, "network_latency_s", link.network_latency_s, 0.0, 0.1);
@@ -122,7 +148,10 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
               "gyro_initial_bias_sigma_deg_s", "accel_initial_bias_sigma_m_s2", "gyro_bias_stability_deg_h",
               "accel_bias_stability_ug", "gyro_range_deg_s", "accel_range_m_s2", "clock_drift_ppm",
               "sample_time_fine_start_s", "baud", "processing_latency_s", "read_latency_s", "read_jitter_s",
-              "number_format", "leading_garbage_bytes", "leading_config_ack"});
+              "number_format", "leading_garbage_bytes", "leading_config_ack", "scale_factor_error",
+              "gyro_scale_factor_sigma_pct", "accel_scale_factor_sigma_pct", "misalignment", "misalignment_sigma_deg",
+              "g_sensitivity", "gyro_g_sensitivity_deg_s_per_g", "temperature_drift", "gyro_temperature_drift_deg_s",
+              "accel_temperature_drift_m_s2", "warm_up_time_constant_s", "timestamp_jitter", "timestamp_jitter_s"});
   ImuConfig& c = s.imu;
   ImuLinkConfig& link = s.imu_link;
   c.rate_hz = read_int_in(m, at, "rate_hz", c.rate_hz, 1, 400);
@@ -137,6 +166,19 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.accel_bias_stability_ug = read_in(m, at, "accel_bias_stability_ug", c.accel_bias_stability_ug, 0.0, 1e5);
   c.gyro_range_deg_s = read_in(m, at, "gyro_range_deg_s", c.gyro_range_deg_s, 1.0, 1e4);
   c.accel_range_m_s2 = read_in(m, at, "accel_range_m_s2", c.accel_range_m_s2, 1.0, 1e4);
+  c.scale_factor_error = read_bool(m, at, "scale_factor_error", c.scale_factor_error);
+  c.gyro_scale_factor_sigma_pct = read_in(m, at, "gyro_scale_factor_sigma_pct", c.gyro_scale_factor_sigma_pct, 0.0, 10.0);
+  c.accel_scale_factor_sigma_pct = read_in(m, at, "accel_scale_factor_sigma_pct", c.accel_scale_factor_sigma_pct, 0.0, 10.0);
+  c.misalignment = read_bool(m, at, "misalignment", c.misalignment);
+  c.misalignment_sigma_deg = read_in(m, at, "misalignment_sigma_deg", c.misalignment_sigma_deg, 0.0, 5.0);
+  c.g_sensitivity = read_bool(m, at, "g_sensitivity", c.g_sensitivity);
+  c.gyro_g_sensitivity_deg_s_per_g = read_in(m, at, "gyro_g_sensitivity_deg_s_per_g", c.gyro_g_sensitivity_deg_s_per_g, 0.0, 1.0);
+  c.temperature_drift = read_bool(m, at, "temperature_drift", c.temperature_drift);
+  c.gyro_temperature_drift_deg_s = read_in(m, at, "gyro_temperature_drift_deg_s", c.gyro_temperature_drift_deg_s, 0.0, 10.0);
+  c.accel_temperature_drift_m_s2 = read_in(m, at, "accel_temperature_drift_m_s2", c.accel_temperature_drift_m_s2, 0.0, 10.0);
+  c.warm_up_time_constant_s = read_in(m, at, "warm_up_time_constant_s", c.warm_up_time_constant_s, 1.0, 1e5);
+  c.timestamp_jitter = read_bool(m, at, "timestamp_jitter", c.timestamp_jitter);
+  c.timestamp_jitter_s = read_in(m, at, "timestamp_jitter_s", c.timestamp_jitter_s, 0.0, 0.01);
   s.imu_clock_drift_ppm = read_optional_in(m, at, "clock_drift_ppm", -1000.0, 1000.0);
   s.imu_sample_time_start_s = read_optional_in(m, at, "sample_time_fine_start_s", 0.0, 86399.0);
   link.baud = read_int_in(m, at, "baud", link.baud, 9600, 4'000'000);
@@ -273,6 +315,34 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
   l["difop_period_s"] = s.lidar_link.difop_period_s;
   if (s.difop_phase_s) l["difop_phase_s"] = *s.difop_phase_s;
   if (s.lidar_unit_seed) l["unit_seed"] = *s.lidar_unit_seed;
+  // Error sources only when on, so the files of runs without them stay as they were.
+  if (s.lidar.range_offset_error) {
+    l["range_offset_error"] = true;
+    l["range_offset_sigma_m"] = s.lidar.range_offset_sigma_m;
+  }
+  if (s.lidar.intensity_range_bias) {
+    l["intensity_range_bias"] = true;
+    l["intensity_range_walk_m"] = s.lidar.intensity_range_walk_m;
+  }
+  if (s.lidar.dark_surface_dropout) {
+    l["dark_surface_dropout"] = true;
+    l["range_at_reference_reflectivity_m"] = s.lidar.range_at_reference_reflectivity_m;
+    l["reference_reflectivity"] = s.lidar.reference_reflectivity;
+  }
+  if (s.lidar.cage_bars.enabled) {
+    const CageBars& b = s.lidar.cage_bars;
+    YAML::Node bars;
+    bars["count"] = b.count;
+    bars["cage_radius_m"] = b.cage_radius_m;
+    bars["bar_radius_m"] = b.bar_radius_m;
+    bars["length_m"] = b.length_m;
+    bars["axis"] = std::vector<double>{b.axis_l.x(), b.axis_l.y(), b.axis_l.z()};
+    bars["centre_m"] = std::vector<double>{b.centre_l.x(), b.centre_l.y(), b.centre_l.z()};
+    bars["axis"].SetStyle(YAML::EmitterStyle::Flow);
+    bars["centre_m"].SetStyle(YAML::EmitterStyle::Flow);
+    bars["reflectivity"] = b.reflectivity;
+    l["cage_bars"] = bars;
+  }
   n["lidar"] = l;
 
   YAML::Node i;
@@ -295,6 +365,30 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
   i["number_format"] = number_format_key(s.imu_link.number_format);
   i["leading_garbage_bytes"] = s.imu_link.leading_garbage_bytes;
   i["leading_config_ack"] = s.imu_link.leading_config_ack;
+  // Error sources only when on, so the files of runs without them stay as they were.
+  if (s.imu.scale_factor_error) {
+    i["scale_factor_error"] = true;
+    i["gyro_scale_factor_sigma_pct"] = s.imu.gyro_scale_factor_sigma_pct;
+    i["accel_scale_factor_sigma_pct"] = s.imu.accel_scale_factor_sigma_pct;
+  }
+  if (s.imu.misalignment) {
+    i["misalignment"] = true;
+    i["misalignment_sigma_deg"] = s.imu.misalignment_sigma_deg;
+  }
+  if (s.imu.g_sensitivity) {
+    i["g_sensitivity"] = true;
+    i["gyro_g_sensitivity_deg_s_per_g"] = s.imu.gyro_g_sensitivity_deg_s_per_g;
+  }
+  if (s.imu.temperature_drift) {
+    i["temperature_drift"] = true;
+    i["gyro_temperature_drift_deg_s"] = s.imu.gyro_temperature_drift_deg_s;
+    i["accel_temperature_drift_m_s2"] = s.imu.accel_temperature_drift_m_s2;
+    i["warm_up_time_constant_s"] = s.imu.warm_up_time_constant_s;
+  }
+  if (s.imu.timestamp_jitter) {
+    i["timestamp_jitter"] = true;
+    i["timestamp_jitter_s"] = s.imu.timestamp_jitter_s;
+  }
   n["imu"] = i;
   return n;
 }

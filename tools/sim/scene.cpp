@@ -98,7 +98,7 @@ std::optional<Hit> Scene::cast(const Eigen::Vector3d& origin_w, const Eigen::Vec
     }
   }
   if (best_prim == nullptr) return std::nullopt;
-  return Hit{best_t, best_prim->reflectivity, best_normal};
+  return Hit{best_t, best_prim->reflectivity, best_normal, best_prim->material};
 }
 
 }  // namespace tumble::sim

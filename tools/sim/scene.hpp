@@ -16,6 +16,7 @@ struct Hit {
   double range_m;           // distance from the origin along the unit direction
   double reflectivity;      // 0..1 of the surface hit
   Eigen::Vector3d normal_w; // unit, facing the ray (dot(normal_w, dir) <= 0)
+  Material material = Material::Diffuse;
 };
 
 class Scene {

@@ -58,16 +58,25 @@ std::vector<Eigen::Vector3d> read_repeat(const YAML::Node& obj, const YamlPath& 
   return offsets;
 }
 
+Material read_material(const YAML::Node& obj, const YamlPath& at) {
+  const std::string m = read_string(obj, at, "material", "diffuse");
+  if (m == "diffuse") return Material::Diffuse;
+  if (m == "specular") return Material::Specular;
+  if (m == "glass") return Material::Glass;
+  at.key("material").fail("must be diffuse, specular or glass, got '" + m + "'");
+}
+
 Primitive read_object(const YAML::Node& obj, const YamlPath& at, double default_reflectivity) {
   require_map(obj, at);
   const std::string type = read_string(obj, at, "type");
   Primitive p;
   p.name = read_string(obj, at, "name", "");
   p.reflectivity = read_reflectivity(obj, at, default_reflectivity);
+  p.material = read_material(obj, at);
   const Eigen::Vector3d centre = read_vec3(obj, at, "center_m");
   p.pose_w = pose_from_xyz_rpy_deg(centre, read_vec3(obj, at, "rpy_deg", Eigen::Vector3d::Zero()));
   if (type == "plane") {
-    check_keys(obj, at, {"type", "name", "reflectivity", "center_m", "rpy_deg", "size_m", "repeat"});
+    check_keys(obj, at, {"type", "name", "reflectivity", "material", "center_m", "rpy_deg", "size_m", "repeat"});
     if (has_key(obj, "size_m")) {
       p.shape = Shape::Rectangle;
       p.half_size = 0.5 * read_size(obj, at, 2);
@@ -76,12 +85,12 @@ Primitive read_object(const YAML::Node& obj, const YamlPath& at, double default_
       if (has_key(obj, "repeat")) at.key("repeat").fail("an infinite plane (no size_m) cannot be repeated");
     }
   } else if (type == "box") {
-    check_keys(obj, at, {"type", "name", "reflectivity", "center_m", "rpy_deg", "size_m", "repeat"});
+    check_keys(obj, at, {"type", "name", "reflectivity", "material", "center_m", "rpy_deg", "size_m", "repeat"});
     p.shape = Shape::Box;
     p.half_size = 0.5 * read_size(obj, at, 3);
   } else if (type == "cylinder") {
     check_keys(obj, at,
-               {"type", "name", "reflectivity", "center_m", "rpy_deg", "axis", "radius_m", "height_m", "capped", "repeat"});
+               {"type", "name", "reflectivity", "material", "center_m", "rpy_deg", "axis", "radius_m", "height_m", "capped", "repeat"});
     p.shape = Shape::Cylinder;
     p.radius_m = read_positive(obj, at, "radius_m");
     p.half_size.z() = 0.5 * read_positive(obj, at, "height_m");

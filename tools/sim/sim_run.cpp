@@ -37,7 +37,7 @@ SimRun::SimRun(Scenario scenario)
   }
 
   const Scenario& s = scenario_;
-  lidar_unit_ = make_lidar_unit(s.lidar_unit_seed.value_or(s.seed), s.lidar.vertical_offset_sigma_deg);
+  lidar_unit_ = make_lidar_unit(s.lidar_unit_seed.value_or(s.seed), s.lidar);
 
   // Phases and clocks: whatever the capture happened to catch.
   SensorRng rng(s.seed, "run-timing");

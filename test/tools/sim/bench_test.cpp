@@ -10,6 +10,7 @@
 #include "tools/sim/bench.hpp"
 #include "tools/sim/motion_load.hpp"
 #include "tools/sim/run_writer.hpp"
+#include "tools/sim/scenario.hpp"
 
 namespace tumble::sim {
 namespace {
@@ -102,6 +103,91 @@ TEST(Bench, WritesRunFoldersAndAnIndex) {
   std::getline(csv, header);
   EXPECT_EQ(header, "name,kind,nominal_speed,speed_unit,duration_s,dir");
   EXPECT_NE(progress.str().find("[2/2]"), std::string::npos);
+}
+
+std::unique_ptr<Motion> motion_of(const BenchRun& run) {
+  MotionLoadOptions options;
+  options.source_name = run.name;
+  options.key_path = "motion";
+  return load_motion(run.scenario["motion"], options);
+}
+
+TEST(RealisticBench, IsTodaysRunsWithEveryErrorSourceOnPlusLongRuns) {
+  const auto today = plan_bench(7);
+  const auto plan = plan_realistic_bench(7);
+  ASSERT_EQ(plan.size(), today.size() + 3 * kBenchLongRunsPerScene);
+  const double offset_s = realistic_rig_imu_time_offset_s(7);
+  EXPECT_GE(std::abs(offset_s), 0.002);
+  EXPECT_LE(std::abs(offset_s), 0.005);
+  for (std::size_t i = 0; i < plan.size(); ++i) {
+    const BenchRun& run = plan[i];
+    SCOPED_TRACE(run.name);
+    if (i < today.size()) {
+      EXPECT_EQ(run.name, today[i].name);
+      EXPECT_EQ(YAML::Dump(run.scenario["motion"]), YAML::Dump(today[i].scenario["motion"]));
+    }
+    const Scenario s = parse_scenario(run.scenario, run.name, ".");
+    EXPECT_TRUE(s.imu.scale_factor_error && s.imu.misalignment && s.imu.g_sensitivity && s.imu.temperature_drift &&
+                s.imu.timestamp_jitter);
+    EXPECT_TRUE(s.lidar.range_offset_error && s.lidar.intensity_range_bias && s.lidar.dark_surface_dropout);
+    EXPECT_EQ(s.lidar.cage_bars.enabled, run.scenario["motion"]["type"].as<std::string>() == "rolling_cage");
+    EXPECT_EQ(s.imu_time_offset_s, offset_s);
+    EXPECT_EQ(*s.lidar_unit_seed, 7u);
+  }
+  EXPECT_EQ(dump(plan), dump(plan_realistic_bench(7)));
+  EXPECT_NE(dump(plan), dump(plan_realistic_bench(8)));
+}
+
+TEST(RealisticBench, LongRunsGoOutAtLeast25mAndComeBackInAMinuteOrMore) {
+  std::map<std::string, int> scenes;
+  for (const BenchRun& run : plan_realistic_bench(3)) {
+    if (run.kind != "long") continue;
+    SCOPED_TRACE(run.name);
+    ++scenes[run.scenario["scene"].as<std::string>()];
+    const auto motion = motion_of(run);
+    EXPECT_GE(motion->duration_s(), 60.0);
+    const bool cage = run.scenario["motion"]["type"].as<std::string>() == "rolling_cage";
+    EXPECT_EQ(run.speed_unit, cage ? "rad/s" : "m/s");
+    EXPECT_GT(run.nominal_speed, 0.8);
+    const Eigen::Vector3d start = motion->at(0.0).T_wb.translation();
+    double path_m = 0.0, farthest_m = 0.0;
+    Eigen::Vector3d previous = start;
+    for (double t = 0.05; t <= motion->duration_s(); t += 0.05) {
+      const Eigen::Vector3d p = motion->at(t).T_wb.translation();
+      path_m += (p - previous).head<2>().norm();
+      farthest_m = std::max(farthest_m, (p - start).head<2>().norm());
+      previous = p;
+      if (run.scenario["scene"].as<std::string>() != "yard") {
+        EXPECT_LT(std::abs(p.y()), run.scenario["scene"].as<std::string>() == "garage" ? 4.0 : 1.0);
+        EXPECT_LT(std::abs(p.x()), 25.0);
+      }
+    }
+    EXPECT_GE(path_m, 50.0);
+    EXPECT_GE(farthest_m, 25.0);
+    EXPECT_LT((motion->at(motion->duration_s()).T_wb.translation() - start).head<2>().norm(), 0.5);
+  }
+  EXPECT_EQ(scenes["garage"], kBenchLongRunsPerScene);
+  EXPECT_EQ(scenes["corridor"], kBenchLongRunsPerScene);
+  EXPECT_EQ(scenes["yard"], kBenchLongRunsPerScene);
+}
+
+TEST(RealisticBench, IndexSaysSoAndTodaysDoesNot) {
+  for (const bool realistic : {false, true}) {
+    TempDir dir;
+    BenchOptions options;
+    options.seed = 7;
+    options.max_runs = 1;
+    options.max_duration_s = 0.005;
+    options.realistic = realistic;
+    std::ostringstream progress;
+    write_bench(realistic ? plan_realistic_bench(7) : plan_bench(7), dir.path(), options, progress);
+    const YAML::Node index = YAML::LoadFile((dir.path() / "bench.yaml").string());
+    EXPECT_EQ(static_cast<bool>(index["imu_time_offset_s"]), realistic);
+    EXPECT_EQ(static_cast<bool>(index["error_sources"]), realistic);
+    const YAML::Node manifest = YAML::LoadFile((dir.path() / index["runs"][0]["dir"].as<std::string>() / kManifestName).string());
+    EXPECT_EQ(static_cast<bool>(manifest["imu"]["gyro_sensing_matrix"]), realistic);
+    EXPECT_EQ(static_cast<bool>(manifest["lidar"]["range_offsets_m"]), realistic);
+  }
 }
 
 }  // namespace

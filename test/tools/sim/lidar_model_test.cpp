@@ -87,7 +87,7 @@ class LidarModelTest : public ::testing::Test {
   TempDir dir_;
   BoxRoom room_;
   Scene scene_;
-  LidarUnit unit_ = make_lidar_unit(5, 0.1);
+  LidarUnit unit_ = make_lidar_unit(5, LidarConfig{});
 };
 
 TEST(LidarBeam, IsExactlyTheDecodersGeometry) {
@@ -104,7 +104,7 @@ TEST(LidarBeam, IsExactlyTheDecodersGeometry) {
 }
 
 TEST(LidarUnitCalibration, StaysNearTheDesignAnglesOnTheDifopGrid) {
-  const LidarUnit a = make_lidar_unit(3, 0.1), b = make_lidar_unit(3, 0.1), c = make_lidar_unit(4, 0.1);
+  const LidarUnit a = make_lidar_unit(3, LidarConfig{}), b = make_lidar_unit(3, LidarConfig{}), c = make_lidar_unit(4, LidarConfig{});
   EXPECT_EQ(a.vertical_angles_deg, b.vertical_angles_deg);
   EXPECT_NE(a.vertical_angles_deg, c.vertical_angles_deg);
   int off_design = 0;

@@ -79,11 +79,11 @@ TEST(MtiDevice, RefusesConfigurationWhileMeasuring) {
 TEST(MtiDevice, EchoesTheLlcpOutputConfigurationExample) {
   TUMBLE_REQUIRE_FIXTURE("mti/llcp-examples/llcp_example_SetOutputConfiguration.bin");
   MtiDevice device(MtiDeviceOptions{.start = MtiStartState::Config});
-  device.on_host_bytes(read_bytes(test::fixture_path("mti/llcp-examples/llcp_example_SetOutputConfiguration.bin")),
+  device.on_host_bytes(read_bytes(tumble::test::fixture_path("mti/llcp-examples/llcp_example_SetOutputConfiguration.bin")),
                        0.0);
   std::vector<std::uint8_t> out;
   device.take_due(1.0, out);
-  EXPECT_EQ(out, read_bytes(test::fixture_path("mti/llcp-examples/llcp_example_SetOutputConfigurationAck.bin")));
+  EXPECT_EQ(out, read_bytes(tumble::test::fixture_path("mti/llcp-examples/llcp_example_SetOutputConfigurationAck.bin")));
 }
 
 TEST(MtiDevice, EchoesTheRateItCanRunSoTheDriverNoticesTheDifference) {

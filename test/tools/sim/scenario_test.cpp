@@ -123,6 +123,47 @@ TEST(Scenario, ResolvedSettingsSurviveARoundTripThroughYaml) {
   EXPECT_TRUE(b.T_LI.isApprox(a.T_LI, 1e-12));
 }
 
+TEST(Scenario, ErrorSourcesAreOffByDefaultAndSwitchedByKey) {
+  const Scenario off = parse(kMinimal);
+  EXPECT_FALSE(off.imu.scale_factor_error || off.imu.misalignment || off.imu.g_sensitivity || off.imu.temperature_drift ||
+               off.imu.timestamp_jitter);
+  EXPECT_FALSE(off.lidar.range_offset_error || off.lidar.intensity_range_bias || off.lidar.dark_surface_dropout ||
+               off.lidar.cage_bars.enabled);
+  // Files of runs without them carry none of their keys.
+  const YAML::Node off_yaml = scenario_to_yaml(off);
+  for (const char* key : {"scale_factor_error", "misalignment", "g_sensitivity", "temperature_drift", "timestamp_jitter"})
+    EXPECT_FALSE(off_yaml["imu"][key]) << key;
+  for (const char* key : {"range_offset_error", "intensity_range_bias", "dark_surface_dropout", "cage_bars"})
+    EXPECT_FALSE(off_yaml["lidar"][key]) << key;
+
+  const Scenario on = parse(std::string(kMinimal) +
+                            "imu: {scale_factor_error: true, gyro_scale_factor_sigma_pct: 0.5, misalignment: true, "
+                            "g_sensitivity: true, temperature_drift: true, warm_up_time_constant_s: 60, "
+                            "timestamp_jitter: true, timestamp_jitter_s: 0.0001}\n"
+                            "lidar: {range_offset_error: true, range_offset_sigma_m: 0.02, intensity_range_bias: true, "
+                            "dark_surface_dropout: true, cage_bars: {count: 6, cage_radius_m: 0.5}}\n");
+  EXPECT_TRUE(on.imu.scale_factor_error && on.imu.misalignment && on.imu.g_sensitivity && on.imu.temperature_drift &&
+              on.imu.timestamp_jitter);
+  EXPECT_DOUBLE_EQ(on.imu.gyro_scale_factor_sigma_pct, 0.5);
+  EXPECT_DOUBLE_EQ(on.imu.accel_scale_factor_sigma_pct, 0.1);  // the datasheet default
+  EXPECT_DOUBLE_EQ(on.imu.warm_up_time_constant_s, 60.0);
+  EXPECT_DOUBLE_EQ(on.imu.timestamp_jitter_s, 0.0001);
+  EXPECT_DOUBLE_EQ(on.lidar.range_offset_sigma_m, 0.02);
+  EXPECT_TRUE(on.lidar.cage_bars.enabled);
+  EXPECT_EQ(on.lidar.cage_bars.count, 6);
+  const Scenario back = parse_scenario(scenario_to_yaml(on), "back.yaml", ".");
+  EXPECT_EQ(YAML::Dump(scenario_to_yaml(back)), YAML::Dump(scenario_to_yaml(on)));
+
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "imu: {scale_factor: true}\n").find("s.yaml: imu.scale_factor: unknown key"),
+            std::string::npos);
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {cage_bars: {bars: 3}}\n")
+                .find("s.yaml: lidar.cage_bars.bars: unknown key"),
+            std::string::npos);
+  EXPECT_NE(scenario_error_of(std::string(kMinimal) + "lidar: {cage_bars: {cage_radius_m: 0.1, bar_radius_m: 0.1}}\n")
+                .find("s.yaml: lidar.cage_bars.bar_radius_m: must be below cage_radius_m"),
+            std::string::npos);
+}
+
 TEST(Scenario, ShippedScenariosLoadAndTheDefaultStartsStillForASecond) {
   for (const auto& entry : std::filesystem::directory_iterator(sim_data_dir("scenarios"))) {
     SCOPED_TRACE(entry.path().string());

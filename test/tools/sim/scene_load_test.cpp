@@ -109,7 +109,7 @@ TEST(SceneLoad, ErrorsNameTheKeyAndWhy) {
   EXPECT_EQ(scene_error_of("objects: [{type: plane, center_m: [0,0,0], reflectivity: 200}]"),
             "bad.yaml: objects[0].reflectivity: must be in [0, 1]");
   EXPECT_EQ(scene_error_of("objects: [{type: plane, center_m: [0,0,0], colour: red}]"),
-            "bad.yaml: objects[0].colour: unknown key (allowed: type name reflectivity center_m rpy_deg size_m repeat)");
+            "bad.yaml: objects[0].colour: unknown key (allowed: type name reflectivity material center_m rpy_deg size_m repeat)");
   EXPECT_EQ(scene_error_of("objects: [{type: cylinder, center_m: [0,0,0], radius_m: 1, height_m: 1, axis: [0,0,0]}]"),
             "bad.yaml: objects[0].axis: must be a nonzero vector");
   EXPECT_EQ(scene_error_of("objects: [{type: box, center_m: [0,0,0], size_m: [1,1,1], repeat: {count: [2, 0, 1], step_m: [1,1,1]}}]"),
