@@ -1,26 +1,33 @@
-// Pass 1 of `tumble-calib rig`: the first lidar-IMU rotation, from the
-// lidar-only poses of the recording's gentle start (before the lidar-only
-// registration loses the motion), with no estimate of anything to start from.
+// Pass 1 of `tumble-calib rig`: the first lidar-IMU rotation, from no
+// estimate of anything, good enough for the later passes to settle.
 //
-// Why it holds (not tuned to a recording):
-//  - It fits the rotation to the scan-to-scan rotations of every pair of
-//    poses up to a second apart, not only of consecutive scans. A pose's
-//    orientation error (ICP noise, the constant-twist lag) is the same
-//    whatever the pair, so a pair's error is bounded by two poses' errors
-//    while its rotation grows with the gap: at the start of a motion a
-//    scan interval turns by tenths of a degree about the least-turned axis,
-//    a second by tens. The fit's conditioning grows with the gap, not with
-//    how long the lidar-only registration lasted.
-//  - r_L = R_LI r_I holds for rotations of any size (R_L = R_LI R_I R_LIᵀ
-//    turns the rotation axis and keeps the angle), so long pairs need no
-//    small-angle approximation: the Kabsch fit stays exact.
-//  - The poses lag the motion (the constant-twist de-skew) and the rig's
-//    clock offset is unknown: both shift the lidar against the gyro in
-//    time, so the fit is made at the best of a grid of shifts.
-//  - Its own check: the poses with even indices and those with odd ones
-//    share no pose, so no registration error; each gives a fit over the
-//    same motion, and their disagreement measures the fit's error from the
-//    data alone. calibrate_rig refuses a bootstrap whose halves disagree.
+// Why it holds (by design, not tuned to a recording):
+//  - The lidar-only registration follows only the gentle start, and its
+//    poses lag the motion by degrees (a constant-twist de-skew under
+//    angular acceleration): their rotation is only a start, 5-20 deg off.
+//    So it is refined on a short window of the recording's start: the
+//    window registered with the gyro's de-skew under the current
+//    estimate, the rotation refitted from its poses, until it settles
+//    (refine_bootstrap). A wrongly turned de-skew biases the poses, but ICP
+//    takes up only a part of the error, so each refit moves a large
+//    fraction of the way to the true rotation: a contraction, whatever the
+//    mount (on the upside-down one the refits moved it by 16 deg, then
+//    1.5, 0.1, 0.02, ending 0.3 deg off: the later passes do the rest).
+//  - Each fit uses the rotations between every pair of poses up to a second
+//    apart, not only consecutive ones. A pose's orientation error is the
+//    same whatever the pair, so a pair's error is bounded by two poses'
+//    while its rotation grows with the gap: at the start of a motion a scan
+//    interval turns by tenths of a degree about the least-turned axis, a
+//    second by tens. r_L = R_LI r_I holds for rotations of any size
+//    (R_L = R_LI R_I R_LIᵀ turns the axis and keeps the angle), so the Kabsch
+//    fit stays exact for long pairs.
+//  - The poses' lag and the rig's unknown clock offset shift the lidar
+//    against the gyro in time, so each fit is made at the best of a grid of
+//    shifts (±80 ms).
+//  - Its own checks: refits that do not settle, or fits from the poses with
+//    even and with odd indices (no pose, so no registration error, in
+//    common; the same motion) that disagree, mean the window does not
+//    determine the rotation: calibrate_rig then fails with one line.
 #pragma once
 
 #include <cstddef>
@@ -50,16 +57,13 @@ struct BootstrapRotation {
   double halves_disagreement_deg = 180.0; // the even poses' fit against the odd poses' (180: either failed)
 };
 
+// The rotation (and gyro bias) from every pair of registered poses up to
+// 1 s apart, at the best shift within ±80 ms; every pair counts.
 BootstrapRotation bootstrap_rotation(std::span<const ScanPose> poses, std::span<const ImuSample> imu);
 
-// The lidar-only poses lag the motion by degrees (their de-skew), so their
-// rotation is only a start, 5-20 deg off. It is refined on a short window
-// of the recording's gentle start: the window registered with the gyro's
-// de-skew under the current estimate (at offset 0), the rotation refitted,
-// until it moves by less than 0.05 deg. A wrongly turned de-skew biases the
-// poses, but ICP takes up only a part of it, so each refit moves a large
-// fraction of the way to the true rotation (on the upside-down mount 16
-// deg, then 1.5, 0.1, 0.02).
+// Refits from start: register_window(the current estimate at offset 0),
+// then bootstrap_rotation on its poses, until a refit moves the rotation by
+// less than 0.05 deg (at most 8 refits).
 using WindowRegistration = std::function<std::vector<ScanPose>(const GyroModel&)>;
 
 struct RefinedBootstrap {
