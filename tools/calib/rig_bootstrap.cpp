@@ -16,7 +16,7 @@ constexpr double kMaxPairAngleRad = 2.0;
 // The shifts searched: the constant-twist lag (tens of ms) plus the rig's offset.
 constexpr double kLagSearchS = 0.08;
 constexpr double kLagStepS = 0.002;
-// The refits settle in 3-4 on the simulated mounts; more means a window
+// The refits settle in 4-5 on the simulated mounts; more means a window
 // that does not determine the rotation.
 constexpr int kMaxRefits = 8;
 constexpr double kSettledDeg = 0.05;
