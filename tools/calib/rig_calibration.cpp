@@ -1,11 +1,13 @@
 #include "tools/calib/rig_calibration.hpp"
 
 #include <cmath>
+#include <iomanip>
 #include <sstream>
 
 #include "core/angles.hpp"
 #include "core/types.hpp"
 #include "tools/calib/input_error.hpp"
+#include "tools/calib/rig_bootstrap.hpp"
 #include "tools/calib/run_inputs.hpp"
 
 namespace tumble::calib {
@@ -29,8 +31,15 @@ constexpr double kSettledRotationDeg = 0.02;
 constexpr double kBootstrapMismatchRad = 0.03;
 constexpr std::size_t kBootstrapStopAfter = 3;
 constexpr double kBootstrapMinWeakestAxisDeg = 0.1;
-constexpr double kBootstrapLagSearchS = 0.08;
-constexpr double kBootstrapLagStepS = 0.002;
+// Pass 1's refits register the recording's first seconds of motion after
+// the lidar-only stretch: the gentle start, where a wrongly turned de-skew
+// misleads ICP least, and short, so a refit takes seconds; 3 s adds ~30
+// scans turning tens of degrees about every axis.
+constexpr double kBootstrapWindowS = 3.0;
+// The refit's fits from the even and from the odd scans (no scan in
+// common) must agree within this: the later passes settle from a first
+// rotation a degree off, not from one the recording does not determine.
+constexpr double kBootstrapMaxDisagreementDeg = 1.0;
 
 Eigen::Vector3d rotation_vector(const Eigen::Matrix3d& R) {
   const Eigen::AngleAxisd aa(R);
@@ -95,11 +104,9 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   const auto diverging = [&](const std::vector<ScanPose>& poses) {
     const std::vector<LidarRotation> last = lidar_rotations(std::span(poses).last(std::min<std::size_t>(2, poses.size())));
     if (last.empty()) {
-
       disagreements = poses.back().registered ? disagreements : disagreements + 1;
     } else {
       const double gyro_rad = rotation_increments(last, imu, 0.0).front().gyro_rad.norm();
-
       disagreements = std::abs(last.front().rotation_rad.norm() - gyro_rad) > kBootstrapMismatchRad ? disagreements + 1 : 0;
     }
     return disagreements >= kBootstrapStopAfter;
@@ -121,17 +128,45 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
         << " needed): start the recording at rest and build the motion about every axis up over a second or two";
     throw RigError(why.str());
   }
+  // Refined on the recording's first seconds (rig_bootstrap.hpp: why it holds).
+  const double window_end_s = poses.back().t_s + kBootstrapWindowS;
+  const double window_s = window_end_s - poses.front().t_s;
+  std::vector<ScanPose> window = poses;  // the last registration's (its velocities de-skew the next)
+  const RefinedBootstrap refined =
+      refine_bootstrap(bootstrap_rotation(poses, imu), imu, [&](const GyroModel& gyro) {
+        window = register_rig_scans(dir / "lidar.pcap", imu, gyro, params, window,
+                                    [&](const std::vector<ScanPose>& p) { return p.back().t_s >= window_end_s; });
+        return window;
+      });
+  if (!refined.settled) {
+    std::ostringstream why;
+    why << "pass 1: the first rotation did not settle over the recording's first " << window_s << " s ("
+        << refined.refits << " refits, the last moved it by " << refined.last_move_deg
+        << " deg): start the recording at rest and build the motion about every axis up over a second or two";
+    throw RigError(why.str());
+  }
+  const BootstrapRotation& bootstrap = refined.fit;
+  poses = refined.poses;
+  if (bootstrap.halves_disagreement_deg > kBootstrapMaxDisagreementDeg) {
+    std::ostringstream why;
+    why << "pass 1: the rotations from the even and from the odd scans of the recording's first "
+        << window_s << " s differ by " << bootstrap.halves_disagreement_deg << " deg (at most "
+        << kBootstrapMaxDisagreementDeg << " allowed): the recording does not determine the rotation";
+    throw RigError(why.str());
+  }
   RigPass pass;
-  pass.name = "pass 1 (lidar only)";
   pass.scans = poses.size();
   for (const ScanPose& p : poses) pass.scans_registered += p.registered ? 1 : 0;
-  pass.increments = lidar1.size();
-  // Its poses lag (the constant twist): the gyro agrees best shifted by
-  // tens of ms, and the rotation is much better fitted there. The shift is
-  // the lag's, not the rig's offset: the next pass starts from offset 0.
-  const TimeOffsetEstimate lag = fine_time_offset(lidar1, imu, 0.0, kBootstrapLagSearchS, kBootstrapLagStepS);
-  pass.rotation = align_rotation_increments(rotation_increments(lidar1, imu, lag.offset_s), false);
-  pass.name += " (best agreement " + std::to_string(static_cast<int>(std::lround(lag.offset_s * 1e3))) + " ms)";
+  pass.increments = bootstrap.pairs;
+  pass.rotation = bootstrap.rotation;
+  // The best shift is not the rig's offset (the window was de-skewed at
+  // offset 0, which pulls it there): the next pass searches the offset.
+  std::ostringstream label;
+  label << std::setprecision(2) << "pass 1 (lidar only, then " << refined.refits
+        << " gyro de-skewed refits over the first " << window_s
+        << " s, pairs of scans up to 1 s apart; best agreement at " << std::lround(bootstrap.lag_s * 1e3)
+        << " ms; its even and odd scans agree within " << bootstrap.halves_disagreement_deg << " deg)";
+  pass.name = label.str();
   if (progress) progress(pass);
   out.passes.push_back(pass);
 

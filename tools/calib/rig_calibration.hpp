@@ -3,7 +3,10 @@
 //  1. Register the scans without the IMU (constant-twist de-skew) for as
 //     long as their scan-to-scan rotations agree in magnitude with the
 //     gyro's (the start of the motion, before the rates build up); a first
-//     rotation (hand-eye) from them, at offset 0.
+//     rotation from the rotations between every two of those poses up to a
+//     second apart, at the best of a grid of shifts (rig_bootstrap.hpp: why
+//     it holds). Refused (RigError) when its fits from the even and from the
+//     odd poses disagree.
 //  2. Register the whole recording de-skewed by the gyro under that
 //     estimate; coarse time offset by cross-correlating the rotation
 //     magnitudes, then the offset by a fine search of the hand-eye residual,

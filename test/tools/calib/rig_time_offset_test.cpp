@@ -19,13 +19,13 @@ Eigen::Vector3d rate_l(double t) {
   return {2.0 * std::sin(2.1 * t), 1.5 * std::sin(3.3 * t + 1.0), 1.8 * std::sin(2.7 * t + 2.0)};
 }
 
-struct Rig {
+struct SyntheticRig {
   std::vector<LidarRotation> lidar;
   std::vector<ImuSample> imu;
 };
 
-Rig synthetic_rig(double offset_s, const Eigen::Matrix3d& R_li) {
-  Rig rig;
+SyntheticRig synthetic_rig(double offset_s, const Eigen::Matrix3d& R_li) {
+  SyntheticRig rig;
   // The true rate densely (1 kHz, lidar frame) gives the lidar's rotations.
   std::vector<ImuSample> dense;
   for (int i = 0; i <= 20'000; ++i) {
@@ -55,7 +55,7 @@ const Eigen::Matrix3d kR_li = (Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::Unit
 
 TEST(RigTimeOffset, CrossCorrelationFindsTheOffsetToTheMillisecond) {
   for (const double offset_s : {0.0123, -0.0871}) {
-    const Rig rig = synthetic_rig(offset_s, kR_li);
+    const SyntheticRig rig = synthetic_rig(offset_s, kR_li);
     // ±0.1 s holds both offsets; each millisecond searched costs a pass over the rig (43 s under ASan at ±0.3 s).
     const TimeOffsetEstimate coarse = coarse_time_offset(rig.lidar, rig.imu, 0.0, 0.1, 0.001);
     EXPECT_FALSE(coarse.at_edge);
@@ -66,7 +66,7 @@ TEST(RigTimeOffset, CrossCorrelationFindsTheOffsetToTheMillisecond) {
 
 TEST(RigTimeOffset, FineSearchFindsItToATenthOfAMillisecond) {
   const double offset_s = 0.0123;
-  const Rig rig = synthetic_rig(offset_s, kR_li);
+  const SyntheticRig rig = synthetic_rig(offset_s, kR_li);
   const TimeOffsetEstimate fine = fine_time_offset(rig.lidar, rig.imu, 0.012, 0.002, 0.0002);
   EXPECT_FALSE(fine.at_edge);
   EXPECT_NEAR(fine.offset_s, offset_s, 0.0001);
@@ -75,7 +75,7 @@ TEST(RigTimeOffset, FineSearchFindsItToATenthOfAMillisecond) {
 }
 
 TEST(RigTimeOffset, AnOffsetBeyondTheSearchIsReportedAtTheEdge) {
-  const Rig rig = synthetic_rig(0.2, kR_li);
+  const SyntheticRig rig = synthetic_rig(0.2, kR_li);
   EXPECT_TRUE(coarse_time_offset(rig.lidar, rig.imu, 0.0, 0.1, 0.001).at_edge);
 }
 
