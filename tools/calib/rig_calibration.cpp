@@ -13,7 +13,6 @@
 namespace tumble::calib {
 namespace {
 
-// Earth's gravity varies by ±0.03 m/s² with place: within the check's 0.05.
 constexpr double kCoarseStepS = 0.001;
 // After the coarse search, the first de-skewed pass searches this grid.
 constexpr double kWideHalfWidthS = 0.04;
@@ -208,6 +207,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   const GyroModel final_gyro{out.rotation.R_li,
                              GyroTiming{.offset_s = out.offset.offset_s, .bias_rad_s = out.rotation.gyro_bias_rad_s}};
   out.lever_arm = estimate_lever_arm(poses, imu, final_gyro);
+  // Earth's gravity varies by ±0.03 m/s² with place: within the check's 0.05 m/s².
   out.lever_arm_observable = out.lever_arm.solved &&
                              out.lever_arm.sigma_m.maxCoeff() <= options.max_lever_arm_sigma_m &&
                              std::abs(out.lever_arm.gravity_m_s2 - kStandardGravity_m_s2) <= options.max_gravity_error_m_s2;
