@@ -51,6 +51,7 @@ RunSetup recording_setup(const std::filesystem::path& dir, const RigOptions& opt
   RunSetup setup;
   setup.imu_rate_hz = options.imu_rate_hz;
   setup.imu_baud = options.imu_baud;
+  setup.lidar_clock = options.lidar_clock;
   return setup;
 }
 
@@ -110,7 +111,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
     }
     return disagreements >= kBootstrapStopAfter;
   };
-  std::vector<ScanPose> poses = register_rig_scans(dir / "lidar.pcap", imu, std::nullopt, params, {}, diverging);
+  std::vector<ScanPose> poses = register_rig_scans(dir / "lidar.pcap", setup.lidar_clock, imu, std::nullopt, params, {}, diverging);
   if (disagreements >= kBootstrapStopAfter) poses.resize(poses.size() - kBootstrapStopAfter);
   const std::vector<LidarRotation> lidar1 = lidar_rotations(poses);
   {
@@ -133,7 +134,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
   std::vector<ScanPose> window = poses;  // the last registration's (its velocities de-skew the next)
   const RefinedBootstrap refined =
       refine_bootstrap(bootstrap_rotation(poses, imu), imu, [&](const GyroModel& gyro) {
-        window = register_rig_scans(dir / "lidar.pcap", imu, gyro, params, window,
+        window = register_rig_scans(dir / "lidar.pcap", setup.lidar_clock, imu, gyro, params, window,
                                     [&](const std::vector<ScanPose>& p) { return p.back().t_s >= window_end_s; });
         return window;
       });
@@ -174,7 +175,7 @@ RigCalibration calibrate_rig(const std::filesystem::path& dir, const RigOptions&
     const RigPass& previous = out.passes.back();
     const GyroModel gyro{previous.rotation.R_li, GyroTiming{.offset_s = previous.offset.offset_s,
                                                             .bias_rad_s = previous.rotation.gyro_bias_rad_s}};
-    poses = register_rig_scans(dir / "lidar.pcap", imu, gyro, params, poses);
+    poses = register_rig_scans(dir / "lidar.pcap", setup.lidar_clock, imu, gyro, params, poses);
     const std::string name = "pass " + std::to_string(i + 2) + " (gyro de-skew)";
     if (i == 0) {
       const TimeOffsetEstimate coarse =

@@ -31,6 +31,7 @@ namespace tumble::calib {
 struct RigOptions {
   double imu_rate_hz = 100.0;  // the recording's IMU line (used when it has no manifest.yaml)
   std::uint32_t imu_baud = 115200;
+  rs16::ClockMode lidar_clock = rs16::ClockMode::Free;  // without manifest.yaml; tumbled's lidar.clock default
   double max_offset_s = 0.3;   // the coarse search: offsets within ±this
   int max_deskewed_passes = 6;  // passes 2.. end when the estimate settles, or after this many
   // The lever arm is reported as observable when its largest 1 σ is within

@@ -4,6 +4,8 @@
 
 #include <CLI/CLI.hpp>
 #include <cstdio>
+#include <map>
+#include <string>
 
 #include "tools/calib/input_error.hpp"
 #include "tools/calib/rig_calibration.hpp"
@@ -24,6 +26,11 @@ int run_rig_command(int argc, char** argv) {
       ->check(CLI::Range(1.0, 1000.0));
   app.add_option("--imu-baud", options.imu_baud, "IMU baud rate when there is no manifest.yaml (default 115200)")
       ->check(CLI::Range(9600u, 4000000u));
+  app.add_option("--lidar-clock", options.lidar_clock,
+                 "the lidar's header clock when there is no manifest.yaml: free (tumbled's default: mapped to the "
+                 "recorded arrival times) or synced (PTP/GPS UTC)")
+      ->transform(CLI::CheckedTransformer(
+          std::map<std::string, rs16::ClockMode>{{"free", rs16::ClockMode::Free}, {"synced", rs16::ClockMode::Synced}}));
   app.add_option("--max-offset-s", options.max_offset_s, "search the time offset within +-this (default 0.3)")
       ->check(CLI::Range(0.01, 1.0));
   app.add_option("--max-passes", options.max_deskewed_passes,

@@ -94,7 +94,8 @@ OdometryParams rig_registration_params() {
   return p;
 }
 
-std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap, std::span<const ImuSample> imu,
+std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap, rs16::ClockMode lidar_clock,
+                                         std::span<const ImuSample> imu,
                                          const std::optional<GyroModel>& gyro, const OdometryParams& params,
                                          std::span<const ScanPose> previous, const StopCheck& stop) {
   ScanRegistration registration(params);
@@ -104,7 +105,7 @@ std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap
   Prediction last;  // the newest pose (registered or predicted), and the twist into it
   bool stopped = false;
   std::size_t scans_seen = 0, most_points = 0;
-  for_each_scan(lidar_pcap, [&](const Scan& scan) {
+  for_each_scan(lidar_pcap, lidar_clock, [&](const Scan& scan) {
     if (stopped) return;
     // The recording's first scan is a part of a turn, and so is any scan
     // with packets lost: a sliver would start (or mislead) the map.

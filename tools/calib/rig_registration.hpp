@@ -23,6 +23,7 @@
 
 #include "core/scan_registration.hpp"
 #include "core/types.hpp"
+#include "drivers/rs16/decoder.hpp"
 #include "tools/calib/rig_gyro.hpp"
 
 namespace tumble::calib {
@@ -48,7 +49,8 @@ OdometryParams rig_registration_params();
 using StopCheck = std::function<bool(const std::vector<ScanPose>&)>;
 
 // Throws InputError when the lidar recording is unusable (run_inputs.hpp).
-std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap, std::span<const ImuSample> imu,
+std::vector<ScanPose> register_rig_scans(const std::filesystem::path& lidar_pcap, rs16::ClockMode lidar_clock,
+                                         std::span<const ImuSample> imu,
                                          const std::optional<GyroModel>& gyro, const OdometryParams& params,
                                          std::span<const ScanPose> previous = {}, const StopCheck& stop = {});
 

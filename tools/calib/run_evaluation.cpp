@@ -22,8 +22,8 @@ bool clipped_between(const Trajectory& trajectory, double t0_s, double t1_s) {
 }
 
 // Pass 1: the reference map from the ground-truth de-skewed scans.
-void build_reference_map(const BenchRun& run, const GroundTruth& truth, ReferenceMap& map) {
-  for_each_scan(run.dir / "lidar.pcap", [&](const Scan& scan) {
+void build_reference_map(const BenchRun& run, const RunSetup& setup, const GroundTruth& truth, ReferenceMap& map) {
+  for_each_scan(run.dir / "lidar.pcap", setup.lidar_clock, [&](const Scan& scan) {
     if (!truth.covers(scan.points.front().t_s, scan.points.back().t_s)) return;
     std::size_t hint = 0;
     for (const LidarPoint& p : scan.points) map.add(truth.pose_at(p.t_s, hint) * Eigen::Vector3d(p.x_m, p.y_m, p.z_m));
@@ -48,7 +48,7 @@ void run_odometry(const BenchRun& run, const RunSetup& setup, const std::vector<
   const double motion_start_s = truth.motion_start_s();
   std::size_t next_imu = 0;
 
-  out.scans_decoded = for_each_scan(run.dir / "lidar.pcap", [&](const Scan& scan) {
+  out.scans_decoded = for_each_scan(run.dir / "lidar.pcap", setup.lidar_clock, [&](const Scan& scan) {
     const double t_first_s = scan.points.front().t_s;
     const double t_last_s = scan.points.back().t_s;
     const Trajectory& trajectory = fuser.trajectory();
@@ -112,7 +112,7 @@ RunOutcome evaluate_run(const BenchRun& run, const CalibParams& params) {
     const GroundTruth truth = GroundTruth::load(run.dir / "ground_truth.tum");
     const std::vector<ImuSample> imu = read_imu_samples(run.dir / "imu.pcap", setup);
     ReferenceMap map(params.map);
-    build_reference_map(run, truth, map);
+    build_reference_map(run, setup, truth, map);
     out.map_points = map.size();
     run_odometry(run, setup, imu, truth, map, params, out);
     out.ok = true;

@@ -79,11 +79,14 @@ std::vector<ImuSample> read_imu_samples(const std::filesystem::path& path, const
   return samples;
 }
 
-std::size_t for_each_scan(const std::filesystem::path& path, const std::function<void(const Scan&)>& on_scan) {
+std::size_t for_each_scan(const std::filesystem::path& path, rs16::ClockMode clock,
+                          const std::function<void(const Scan&)>& on_scan) {
   const std::string file = path.string();
   if (!std::filesystem::exists(path)) throw InputError(file + ": missing");
   std::size_t scans = 0;
-  rs16::Driver driver(rs16::DriverConfig{}, [&](Scan& scan, const rs16::ScanReport&) {
+  rs16::DriverConfig config;
+  config.decoder.clock = clock;
+  rs16::Driver driver(config, [&](Scan& scan, const rs16::ScanReport&) {
     if (scan.points.empty()) return;
     ++scans;
     on_scan(scan);
