@@ -217,7 +217,7 @@ TEST(Icp, MatchedRatioIsTheShareOfReadingPointsNearTheMap) {
   RoomFixture f(true);
   Icp icp;
   const double in_room = icp.align(f.reading, f.map, f.truth).matched_ratio;
-  EXPECT_GT(in_room, 0.85);
+  EXPECT_GT(in_room, test::full_or_coarse(0.85, 0.7));  // coarse samples: more of them on edges
   const std::size_t n = f.reading.size();
   PointCloud doubled;
   doubled.resize(2 * n);

@@ -16,8 +16,8 @@
 
 namespace tumble::test {
 
-// Unoptimised builds (the sanitizer build is Debug) run Eigen code tens of
-// times slower: the scene-level tests use coarser clouds there, so that every
+// Debug builds (the sanitizer trees: ASan at -O1, TSan at -O0) run Eigen
+// code tens of times slower: the scene-level tests use coarser clouds there, so that every
 // test stays within seconds; optimised builds test at full resolution.
 #ifdef NDEBUG
 inline constexpr bool kCoarseTests = false;
