@@ -6,7 +6,7 @@
 #
 # Two trees, because ASan's allocator maps, poisons and unmaps every large
 # buffer (the RS-16 driver reserves 3.7 MB per input): under ASan a fuzzer
-# runs ~1.7 k inputs/s, in build/fuzz (libFuzzer + UBSan, -O2) ~40 k/s. The
+# runs ~1.7 k inputs/s, in build/fuzz (libFuzzer + UBSan, -O2) ~8 k/s. The
 # 10 M executions run in build/fuzz; every input they kept (the corpus: each
 # one new coverage) then runs once more under ASan + UBSan in build/asan,
 # which `./tumble test` builds. build/fuzz is configured here when missing.
