@@ -4,8 +4,8 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
+#include "core/angles.hpp"
 #include "tumble/scan_t.hpp"
 
 namespace tumble::daemon {
@@ -356,7 +356,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.inlier_ratio = static_cast<float>(result.inlier_ratio);
   out.matched_ratio = static_cast<float>(result.matched_ratio);
   out.correction_m = static_cast<float>(result.translation_from_prediction_m);
-  out.correction_deg = static_cast<float>(result.rotation_from_prediction_rad * 180.0 / std::numbers::pi);
+  out.correction_deg = static_cast<float>(result.rotation_from_prediction_rad * kRadToDeg);
   out.residual_m = static_cast<float>(result.residual_rms_m);
   out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);
   out.points_used = static_cast<std::int32_t>(result.points_registered);
