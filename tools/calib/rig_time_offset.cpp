@@ -59,12 +59,12 @@ TimeOffsetEstimate coarse_time_offset(std::span<const LidarRotation> lidar, std:
 }
 
 TimeOffsetEstimate fine_time_offset(std::span<const LidarRotation> lidar, std::span<const ImuSample> imu,
-                                    double centre_s, double half_width_s, double step_s) {
+                                    double centre_s, double half_width_s, double step_s, bool reject_outliers) {
   const std::vector<double> grid = offset_grid(centre_s, half_width_s, step_s);
   std::vector<double> ssr(grid.size());
   std::vector<std::size_t> used(grid.size());
   for (std::size_t i = 0; i < grid.size(); ++i) {
-    const HandEyeRotation fit = align_rotation_increments(rotation_increments(lidar, imu, grid[i]));
+    const HandEyeRotation fit = align_rotation_increments(rotation_increments(lidar, imu, grid[i]), reject_outliers);
     ssr[i] = fit.used > 0 ? fit.sum_squared_residual_rad2 / static_cast<double>(fit.used) : 1e300;
     used[i] = fit.used;
   }

@@ -42,6 +42,6 @@ struct TimeOffsetEstimate {
 TimeOffsetEstimate coarse_time_offset(std::span<const LidarRotation> lidar, std::span<const ImuSample> imu,
                                       double centre_s, double half_width_s, double step_s);
 TimeOffsetEstimate fine_time_offset(std::span<const LidarRotation> lidar, std::span<const ImuSample> imu,
-                                    double centre_s, double half_width_s, double step_s);
+                                    double centre_s, double half_width_s, double step_s, bool reject_outliers = true);
 
 }  // namespace tumble::calib
