@@ -94,12 +94,13 @@ double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg,
 }
 
 LidarModel::LidarModel(const LidarConfig& config, const LidarUnit& unit, const Scene& scene, const Motion& motion,
-                       std::uint64_t noise_seed, double azimuth_at_zero_deg)
+                       std::uint64_t noise_seed, double azimuth_at_zero_deg, const People* people)
     : config_(config),
       unit_(unit),
       scene_(scene),
       body_(cage_bar_scene(config.cage_bars)),
       motion_(motion),
+      people_(people != nullptr && !people->empty() ? people : nullptr),
       rng_(noise_seed, "lidar-returns"),
       azimuth_at_zero_deg_(azimuth_at_zero_deg),
       motor_deg_per_s_(config.rpm * 6.0) {}
@@ -119,9 +120,11 @@ void LidarModel::fill_packet(std::int64_t first_firing_ns, rs16::MsopPacketData&
   }
 }
 
-std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const {
+std::optional<Hit> LidarModel::first_return(double t_s, const Eigen::Isometry3d& T_wl, const Beam& beam,
+                                            double limit_m) const {
   const Eigen::Vector3d direction_w = T_wl.linear() * beam.direction_l;
-  Eigen::Vector3d origin_w = T_wl * beam.origin_l;
+  const Eigen::Vector3d beam_origin_w = T_wl * beam.origin_l;
+  Eigen::Vector3d origin_w = beam_origin_w;
   double travelled_m = 0.0;
   std::optional<Hit> hit;
   // Through glass panes one after another (a few at most in any scene).
@@ -133,8 +136,12 @@ std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const
     origin_w += (hit->range_m + kPastThePane_m) * direction_w;
     hit.reset();
   }
+  if (hit) hit->range_m += travelled_m;
+  if (people_ != nullptr) {
+    // People stand in front of whatever the world returns (or would reflect away).
+    if (auto person = people_->cast(t_s, beam_origin_w, direction_w, hit ? hit->range_m : limit_m)) hit = person;
+  }
   if (hit) {
-    hit->range_m += travelled_m;
     if (hit->material == Material::Specular &&
         std::abs(direction_w.dot(hit->normal_w)) < std::cos(kSpecularLobeDeg * kDegToRad)) {
       hit.reset();
@@ -158,7 +165,7 @@ rs16::ChannelReturn LidarModel::fire(double t_s, double azimuth_deg, int laser) 
   // Noise can push a return past max range or below min range: cast a little
   // further so the limits act on what the unit measures.
   const double cast_limit_m = config_.max_range_m + 5.0 * config_.range_noise_m;
-  const auto hit = first_return(T_wl, beam, cast_limit_m);
+  const auto hit = first_return(t_s, T_wl, beam, cast_limit_m);
   // Draw the noise for every firing so one return's fate never shifts the
   // noise of the next (keeps runs comparable when a scene changes slightly).
   const double noise_m = rng_.normal(config_.range_noise_m);

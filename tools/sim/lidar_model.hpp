@@ -11,6 +11,7 @@
 
 #include "drivers/rs16/msop_encode.hpp"
 #include "tools/sim/motion.hpp"
+#include "tools/sim/people.hpp"
 #include "tools/sim/scene.hpp"
 #include "tools/sim/sensor_rng.hpp"
 
@@ -103,8 +104,9 @@ double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg,
 class LidarModel {
  public:
   // azimuth_at_zero_deg: where the motor points at t = 0 (it is already spinning).
+  // people (may be null: nobody) move in the scene; they must outlive the model.
   LidarModel(const LidarConfig& config, const LidarUnit& unit, const Scene& scene, const Motion& motion,
-             std::uint64_t noise_seed, double azimuth_at_zero_deg);
+             std::uint64_t noise_seed, double azimuth_at_zero_deg, const People* people = nullptr);
 
   // The packet whose first firing is at first_firing_ns (run time); utc_time_ns
   // is left for the caller's clock. Every firing must lie inside the motion.
@@ -112,15 +114,16 @@ class LidarModel {
 
  private:
   rs16::ChannelReturn fire(double t_s, double azimuth_deg, int laser);
-  // The nearest surface a beam returns from: the world (through glass, not
-  // from a mirror seen off-normal) or the robot's body.
-  std::optional<Hit> first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
+  // The nearest surface a beam fired at t_s returns from: the world (through
+  // glass, not from a mirror seen off-normal), a person, or the robot's body.
+  std::optional<Hit> first_return(double t_s, const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
 
   LidarConfig config_;
   LidarUnit unit_;
   const Scene& scene_;
   Scene body_;  // the cage bars in L; empty when off
   const Motion& motion_;
+  const People* people_;  // null or empty: nobody
   SensorRng rng_;
   double azimuth_at_zero_deg_;
   double motor_deg_per_s_;

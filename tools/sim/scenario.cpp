@@ -7,6 +7,7 @@
 #include <ctime>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "core/angles.hpp"
 #include "tools/sim/yaml_fields.hpp"
@@ -142,6 +143,107 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   s.difop_phase_s = read_optional_in(m, at, "difop_phase_s", 0.0, link.difop_period_s);
 }
 
+Eigen::Vector2d read_xy(const YAML::Node& m, const YamlPath& at, std::string_view key) {
+  const YAML::Node n = m[std::string(key)];
+  const YamlPath here = at.key(key);
+  if (!n || !n.IsSequence() || n.size() != 2) here.fail("must be 2 numbers [x, y] (m)");
+  Eigen::Vector2d v;
+  for (std::size_t i = 0; i < 2; ++i) {
+    try {
+      v[static_cast<Eigen::Index>(i)] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      here.index(i).fail("must be a number");
+    }
+    if (!std::isfinite(v[static_cast<Eigen::Index>(i)])) here.index(i).fail("must be finite");
+  }
+  return v;
+}
+
+void read_walkers(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"count", "speed_m_s", "path_length_m", "paths"});
+  c.walkers = true;
+  c.walker_count = read_int_in(m, at, "count", c.walker_count, 0, 50);
+  std::tie(c.walker_min_speed_m_s, c.walker_max_speed_m_s) =
+      read_positive_range(m, at, "speed_m_s", {c.walker_min_speed_m_s, c.walker_max_speed_m_s});
+  std::tie(c.walker_min_path_m, c.walker_max_path_m) =
+      read_positive_range(m, at, "path_length_m", {c.walker_min_path_m, c.walker_max_path_m});
+  if (!has_key(m, "paths")) return;
+  if (has_key(m, "count")) at.key("count").fail("give either count (paths drawn from the seed) or paths, not both");
+  const YAML::Node paths = m["paths"];
+  if (!paths.IsSequence() || paths.size() == 0) at.key("paths").fail("must be a non-empty list of {from_m, to_m, speed_m_s, start_m}");
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const YamlPath here = at.key("paths").index(i);
+    require_map(paths[i], here);
+    check_keys(paths[i], here, {"from_m", "to_m", "speed_m_s", "start_m"});
+    WalkerPath w;
+    w.from_m = read_xy(paths[i], here, "from_m");
+    w.to_m = read_xy(paths[i], here, "to_m");
+    w.speed_m_s = read_in(paths[i], here, "speed_m_s", w.speed_m_s, 0.0, 10.0);
+    w.start_m = read_in(paths[i], here, "start_m", w.start_m, 0.0, 1e4);
+    c.walker_paths.push_back(w);
+  }
+}
+
+void read_rope_puller(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"ahead_m", "surge_m", "surge_period_s", "heading_lag_s"});
+  c.rope_puller = true;
+  c.puller_ahead_m = read_in(m, at, "ahead_m", c.puller_ahead_m, 0.5, 20.0);
+  c.puller_surge_m = read_in(m, at, "surge_m", c.puller_surge_m, 0.0, c.puller_ahead_m - 0.5);
+  c.puller_surge_period_s = read_in(m, at, "surge_period_s", c.puller_surge_period_s, 0.5, 600.0);
+  c.puller_heading_lag_s = read_in(m, at, "heading_lag_s", c.puller_heading_lag_s, 0.01, 10.0);
+}
+
+void read_people(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"seed", "radius_m", "height_m", "reflectivity", "floor_z_m", "walkers", "rope_puller"});
+  if (has_key(m, "seed")) c.seed = read_seed(m, at, "seed", 0);
+  c.radius_m = read_in(m, at, "radius_m", c.radius_m, 0.05, 2.0);
+  c.height_m = read_in(m, at, "height_m", c.height_m, 0.1, 3.0);
+  c.reflectivity = read_in(m, at, "reflectivity", c.reflectivity, 0.0, 1.0);
+  c.floor_z_m = read_in(m, at, "floor_z_m", c.floor_z_m, -1e4, 1e4);
+  if (has_key(m, "walkers")) read_walkers(section(m, "walkers"), at.key("walkers"), c);
+  if (has_key(m, "rope_puller")) read_rope_puller(section(m, "rope_puller"), at.key("rope_puller"), c);
+}
+
+// The people section as read (null when nobody is on).
+YAML::Node people_to_yaml(const PeopleConfig& c) {
+  YAML::Node n;
+  if (c.seed) n["seed"] = *c.seed;
+  n["radius_m"] = c.radius_m;
+  n["height_m"] = c.height_m;
+  n["reflectivity"] = c.reflectivity;
+  n["floor_z_m"] = c.floor_z_m;
+  if (c.walkers) {
+    YAML::Node w;
+    if (c.walker_paths.empty()) {
+      w["count"] = c.walker_count;
+      w["speed_m_s"] = std::vector<double>{c.walker_min_speed_m_s, c.walker_max_speed_m_s};
+      w["speed_m_s"].SetStyle(YAML::EmitterStyle::Flow);
+      w["path_length_m"] = std::vector<double>{c.walker_min_path_m, c.walker_max_path_m};
+      w["path_length_m"].SetStyle(YAML::EmitterStyle::Flow);
+    }
+    for (const WalkerPath& p : c.walker_paths) {
+      YAML::Node path;
+      path["from_m"] = std::vector<double>{p.from_m.x(), p.from_m.y()};
+      path["to_m"] = std::vector<double>{p.to_m.x(), p.to_m.y()};
+      path["from_m"].SetStyle(YAML::EmitterStyle::Flow);
+      path["to_m"].SetStyle(YAML::EmitterStyle::Flow);
+      path["speed_m_s"] = p.speed_m_s;
+      path["start_m"] = p.start_m;
+      w["paths"].push_back(path);
+    }
+    n["walkers"] = w;
+  }
+  if (c.rope_puller) {
+    YAML::Node r;
+    r["ahead_m"] = c.puller_ahead_m;
+    r["surge_m"] = c.puller_surge_m;
+    r["surge_period_s"] = c.puller_surge_period_s;
+    r["heading_lag_s"] = c.puller_heading_lag_s;
+    n["rope_puller"] = r;
+  }
+  return n;
+}
+
 void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   check_keys(m, at,
              {"rate_hz", "noise", "gyro_noise_density_deg_s_sqrt_hz", "accel_noise_density_ug_sqrt_hz",
@@ -234,7 +336,7 @@ Scenario parse_scenario(const YAML::Node& root, const std::string& source_name, 
   const YamlPath at{source_name, ""};
   check_keys(root, at,
              {"scene", "motion", "seed", "motion_seed", "duration_s", "epoch_utc", "ground_truth_rate_hz", "extrinsics",
-              "lidar", "imu"});
+              "lidar", "imu", "people"});
 
   s.scene_ref = read_string(root, at, "scene");
   s.scene_path = resolve_ref(s.scene_ref, "scenes", base_dir);
@@ -269,6 +371,7 @@ Scenario parse_scenario(const YAML::Node& root, const std::string& source_name, 
   s.imu_time_offset_s = read_in(extrinsics, at.key("extrinsics"), "imu_time_offset_s", 0.0, -1.0, 1.0);
   read_lidar(section(root, "lidar"), at.key("lidar"), s);
   read_imu(section(root, "imu"), at.key("imu"), s);
+  read_people(section(root, "people"), at.key("people"), s.people);
   return s;
 }
 
@@ -390,6 +493,8 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
     i["timestamp_jitter_s"] = s.imu.timestamp_jitter_s;
   }
   n["imu"] = i;
+  // Only when someone is there, so the files of runs without people stay as they were.
+  if (s.people.walkers || s.people.rope_puller) n["people"] = people_to_yaml(s.people);
   return n;
 }
 
