@@ -72,6 +72,23 @@ struct LidarConfig {
   double range_at_reference_reflectivity_m = 150.0;
   double reference_reflectivity = 0.2;
   CageBars cage_bars;
+  // Mixed pixels at depth edges: the beam is a cone, not a line. Where its
+  // footprint straddles a depth edge, the echoes of the near and the far
+  // surface overlap in time and the detector reports one range between them,
+  // weighted by the energy from each; surfaces further apart than
+  // mixed_pixel_max_gap_m give separate echoes and the stronger one is
+  // reported (the unit's strongest-return mode). The footprint is sampled by
+  // five rays (centre and the four edges of the divergence cone, equal
+  // weights), so this costs four extra casts per beam, and only when on.
+  // Divergence: the RS-16 manual (v4.x) we have gives none; these are the
+  // VLP-16's, a unit of the same class (Velodyne VLP-16 user manual, laser
+  // spec: 3.0 mrad horizontal, 1.5 mrad vertical) -- unverified for the RS-16.
+  // The gap is c * pulse width / 2 for a ~10 ns pulse (an assumption: the
+  // manual gives no pulse width either).
+  bool mixed_pixels = false;
+  double beam_divergence_horizontal_mrad = 3.0;
+  double beam_divergence_vertical_mrad = 1.5;
+  double mixed_pixel_max_gap_m = 1.5;
 };
 
 // What makes one physical unit differ from the design: drawn once per unit seed.
@@ -117,6 +134,11 @@ class LidarModel {
   // The nearest surface a beam fired at t_s returns from: the world (through
   // glass, not from a mirror seen off-normal), a person, or the robot's body.
   std::optional<Hit> first_return(double t_s, const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
+  // What the whole footprint of the beam returns (mixed_pixels): the centre
+  // ray's hit where the footprint lies on one surface, else the merged or
+  // the strongest echo.
+  std::optional<Hit> footprint_return(double t_s, const Eigen::Isometry3d& T_wl, double azimuth_deg,
+                                      double vertical_deg, double limit_m) const;
 
   LidarConfig config_;
   LidarUnit unit_;

@@ -112,7 +112,8 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
               "vertical_offset_sigma_deg", "temperature_c", "unit_seed", "msop_port", "difop_port", "network_latency_s",
               "network_jitter_s", "difop_period_s", "difop_phase_s", "range_offset_error", "range_offset_sigma_m",
               "intensity_range_bias", "intensity_range_walk_m", "dark_surface_dropout",
-              "range_at_reference_reflectivity_m", "reference_reflectivity", "cage_bars"});
+              "range_at_reference_reflectivity_m", "reference_reflectivity", "cage_bars", "mixed_pixels",
+              "beam_divergence_horizontal_mrad", "beam_divergence_vertical_mrad", "mixed_pixel_max_gap_m"});
   LidarConfig& c = s.lidar;
   LidarLinkConfig& link = s.lidar_link;
   c.rpm = read_int_in(m, at, "rpm", c.rpm, 300, 1200);
@@ -134,6 +135,12 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.range_at_reference_reflectivity_m =
       read_in(m, at, "range_at_reference_reflectivity_m", c.range_at_reference_reflectivity_m, 1.0, 1000.0);
   c.reference_reflectivity = read_in(m, at, "reference_reflectivity", c.reference_reflectivity, 0.01, 1.0);
+  c.mixed_pixels = read_bool(m, at, "mixed_pixels", c.mixed_pixels);
+  c.beam_divergence_horizontal_mrad =
+      read_in(m, at, "beam_divergence_horizontal_mrad", c.beam_divergence_horizontal_mrad, 0.0, 50.0);
+  c.beam_divergence_vertical_mrad =
+      read_in(m, at, "beam_divergence_vertical_mrad", c.beam_divergence_vertical_mrad, 0.0, 50.0);
+  c.mixed_pixel_max_gap_m = read_in(m, at, "mixed_pixel_max_gap_m", c.mixed_pixel_max_gap_m, 0.0, 100.0);
   if (has_key(m, "cage_bars")) read_cage_bars(section(m, "cage_bars"), at.key("cage_bars"), c.cage_bars);
   link.msop_port = static_cast<std::uint16_t>(read_int_in(m, at, "msop_port", link.msop_port, 1, 65535));
   link.difop_port = static_cast<std::uint16_t>(read_int_in(m, at, "difop_port", link.difop_port, 1, 65535));
@@ -431,6 +438,12 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
     l["dark_surface_dropout"] = true;
     l["range_at_reference_reflectivity_m"] = s.lidar.range_at_reference_reflectivity_m;
     l["reference_reflectivity"] = s.lidar.reference_reflectivity;
+  }
+  if (s.lidar.mixed_pixels) {
+    l["mixed_pixels"] = true;
+    l["beam_divergence_horizontal_mrad"] = s.lidar.beam_divergence_horizontal_mrad;
+    l["beam_divergence_vertical_mrad"] = s.lidar.beam_divergence_vertical_mrad;
+    l["mixed_pixel_max_gap_m"] = s.lidar.mixed_pixel_max_gap_m;
   }
   if (s.lidar.cage_bars.enabled) {
     const CageBars& b = s.lidar.cage_bars;
