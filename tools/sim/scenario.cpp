@@ -260,7 +260,9 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
               "number_format", "leading_garbage_bytes", "leading_config_ack", "scale_factor_error",
               "gyro_scale_factor_sigma_pct", "accel_scale_factor_sigma_pct", "misalignment", "misalignment_sigma_deg",
               "g_sensitivity", "gyro_g_sensitivity_deg_s_per_g", "temperature_drift", "gyro_temperature_drift_deg_s",
-              "accel_temperature_drift_m_s2", "warm_up_time_constant_s", "timestamp_jitter", "timestamp_jitter_s"});
+              "accel_temperature_drift_m_s2", "warm_up_time_constant_s", "timestamp_jitter", "timestamp_jitter_s",
+              "vibration", "vibration_accel_m_s2_per_m_s", "vibration_accel_per_m_s2", "vibration_gyro_deg_s_per_m_s",
+              "vibration_gyro_deg_s_per_m_s2"});
   ImuConfig& c = s.imu;
   ImuLinkConfig& link = s.imu_link;
   c.rate_hz = read_int_in(m, at, "rate_hz", c.rate_hz, 1, 400);
@@ -288,6 +290,11 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.warm_up_time_constant_s = read_in(m, at, "warm_up_time_constant_s", c.warm_up_time_constant_s, 1.0, 1e5);
   c.timestamp_jitter = read_bool(m, at, "timestamp_jitter", c.timestamp_jitter);
   c.timestamp_jitter_s = read_in(m, at, "timestamp_jitter_s", c.timestamp_jitter_s, 0.0, 0.01);
+  c.vibration = read_bool(m, at, "vibration", c.vibration);
+  c.vibration_accel_m_s2_per_m_s = read_in(m, at, "vibration_accel_m_s2_per_m_s", c.vibration_accel_m_s2_per_m_s, 0.0, 100.0);
+  c.vibration_accel_per_m_s2 = read_in(m, at, "vibration_accel_per_m_s2", c.vibration_accel_per_m_s2, 0.0, 10.0);
+  c.vibration_gyro_deg_s_per_m_s = read_in(m, at, "vibration_gyro_deg_s_per_m_s", c.vibration_gyro_deg_s_per_m_s, 0.0, 100.0);
+  c.vibration_gyro_deg_s_per_m_s2 = read_in(m, at, "vibration_gyro_deg_s_per_m_s2", c.vibration_gyro_deg_s_per_m_s2, 0.0, 10.0);
   s.imu_clock_drift_ppm = read_optional_in(m, at, "clock_drift_ppm", -1000.0, 1000.0);
   s.imu_sample_time_start_s = read_optional_in(m, at, "sample_time_fine_start_s", 0.0, 86399.0);
   link.baud = read_int_in(m, at, "baud", link.baud, 9600, 4'000'000);
@@ -504,6 +511,13 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
   if (s.imu.timestamp_jitter) {
     i["timestamp_jitter"] = true;
     i["timestamp_jitter_s"] = s.imu.timestamp_jitter_s;
+  }
+  if (s.imu.vibration) {
+    i["vibration"] = true;
+    i["vibration_accel_m_s2_per_m_s"] = s.imu.vibration_accel_m_s2_per_m_s;
+    i["vibration_accel_per_m_s2"] = s.imu.vibration_accel_per_m_s2;
+    i["vibration_gyro_deg_s_per_m_s"] = s.imu.vibration_gyro_deg_s_per_m_s;
+    i["vibration_gyro_deg_s_per_m_s2"] = s.imu.vibration_gyro_deg_s_per_m_s2;
   }
   n["imu"] = i;
   // Only when someone is there, so the files of runs without people stay as they were.
