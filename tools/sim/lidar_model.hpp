@@ -80,9 +80,10 @@ struct LidarConfig {
   // reported (the unit's strongest-return mode). The footprint is sampled by
   // five rays (centre and the four edges of the divergence cone, equal
   // weights), so this costs four extra casts per beam, and only when on.
-  // Divergence: the RS-16 manual (v4.x) we have gives none; these are the
-  // VLP-16's, a unit of the same class (Velodyne VLP-16 user manual, laser
-  // spec: 3.0 mrad horizontal, 1.5 mrad vertical) -- unverified for the RS-16.
+  // Divergence: the RS-16 manual (v4.x) gives none. These are Velodyne's
+  // figures for its spinning 905 nm units (VLS-128 user manual, appendix F.2.3,
+  // table F-1: 3.0 mrad (0.18 deg) horizontal, 1.5 mrad (0.09 deg) vertical,
+  // horizontal about twice vertical), taken for the RS-16 until its own are known.
   // The gap is c * pulse width / 2 for a ~10 ns pulse (an assumption: the
   // manual gives no pulse width either).
   bool mixed_pixels = false;
