@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "tools/sim/ray_cast.hpp"
@@ -20,11 +21,35 @@ double wrap_pi(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
 
 Eigen::Vector2d robot_xy_at(const Motion& robot, double t_s) { return robot.at(t_s).T_wb.translation().head<2>(); }
 
+Eigen::Vector2d walker_xy(const WalkerPath& w, double t_s) {
+  const double length = (w.to_m - w.from_m).norm();
+  if (length < 1e-9) return w.from_m;
+  const double loop = 2.0 * length;
+  double s = std::fmod(w.start_m + w.speed_m_s * std::max(t_s, 0.0), loop);
+  if (s > length) s = loop - s;
+  return w.from_m + (s / length) * (w.to_m - w.from_m);
+}
+
+// Where the robot is every kClearanceStepS, to keep drawn walkers off it.
+constexpr double kClearanceStepS = 0.05;
+constexpr double kWalkerClearanceM = 1.0;
+constexpr int kWalkerStartDraws = 20;
+
+double closest_approach_m(const WalkerPath& w, const std::vector<Eigen::Vector2d>& robot_track) {
+  double closest = std::numeric_limits<double>::infinity();
+  for (std::size_t k = 0; k < robot_track.size(); ++k)
+    closest = std::min(closest, (walker_xy(w, static_cast<double>(k) * kClearanceStepS) - robot_track[k]).norm());
+  return closest;
+}
+
 // A path through the robot's position at a random moment of the run, in a
 // random direction: people cross where the robot goes (through the scene's
-// objects too: the paths do not know the scene).
-WalkerPath draw_walker(SensorRng& rng, const PeopleConfig& c, const Motion& robot, double duration_s) {
-  const Eigen::Vector2d crossing = robot_xy_at(robot, rng.uniform(0.0, duration_s));
+// objects too: the paths do not know the scene). Of up to 20 starting
+// points the first that never comes within 1 m of the robot is taken (else
+// the one that comes least close): people cross its path, not its cage.
+WalkerPath draw_walker(SensorRng& rng, const PeopleConfig& c, const std::vector<Eigen::Vector2d>& robot_track) {
+  const auto at = static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(robot_track.size())));
+  const Eigen::Vector2d crossing = robot_track[std::min(at, robot_track.size() - 1)];
   const double heading = rng.uniform(0.0, 2.0 * std::numbers::pi);
   const double length = rng.uniform(c.walker_min_path_m, c.walker_max_path_m);
   const double crossing_at = rng.uniform(0.2, 0.8);  // of the path's length
@@ -33,17 +58,17 @@ WalkerPath draw_walker(SensorRng& rng, const PeopleConfig& c, const Motion& robo
   w.from_m = crossing - crossing_at * length * along;
   w.to_m = crossing + (1.0 - crossing_at) * length * along;
   w.speed_m_s = rng.uniform(c.walker_min_speed_m_s, c.walker_max_speed_m_s);
-  w.start_m = rng.uniform(0.0, 2.0 * length);
+  double best_start_m = 0.0, best_approach_m = -1.0;
+  for (int draw = 0; draw < kWalkerStartDraws && best_approach_m < kWalkerClearanceM; ++draw) {
+    w.start_m = rng.uniform(0.0, 2.0 * length);
+    const double approach_m = closest_approach_m(w, robot_track);
+    if (approach_m > best_approach_m) {
+      best_approach_m = approach_m;
+      best_start_m = w.start_m;
+    }
+  }
+  w.start_m = best_start_m;
   return w;
-}
-
-Eigen::Vector2d walker_xy(const WalkerPath& w, double t_s) {
-  const double length = (w.to_m - w.from_m).norm();
-  if (length < 1e-9) return w.from_m;
-  const double loop = 2.0 * length;
-  double s = std::fmod(w.start_m + w.speed_m_s * std::max(t_s, 0.0), loop);
-  if (s > length) s = loop - s;
-  return w.from_m + (s / length) * (w.to_m - w.from_m);
 }
 
 }  // namespace
@@ -55,7 +80,10 @@ People::People(const PeopleConfig& config, const Motion& robot, double duration_
     walkers_ = config.walker_paths;
     SensorRng rng(seed, "people-walkers");
     if (walkers_.empty()) {
-      for (int k = 0; k < config.walker_count; ++k) walkers_.push_back(draw_walker(rng, config, robot, duration_s));
+      std::vector<Eigen::Vector2d> robot_track(static_cast<std::size_t>(duration_s / kClearanceStepS) + 1);
+      for (std::size_t k = 0; k < robot_track.size(); ++k)
+        robot_track[k] = robot_xy_at(robot, static_cast<double>(k) * kClearanceStepS);
+      for (int k = 0; k < config.walker_count; ++k) walkers_.push_back(draw_walker(rng, config, robot_track));
     }
   }
   if (config.rope_puller) {

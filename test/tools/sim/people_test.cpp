@@ -3,6 +3,7 @@
 // nothing but the returns they stand in front of.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <vector>
@@ -145,6 +146,34 @@ TEST(People, TheRopePullerWalksOnePointFiveToTwoPointFiveMetresAheadOfTheRobot) 
   // Before the pull the puller already stands where the cage will go (+x turned 30 deg).
   const Eigen::Vector2d at_start = people.position_xy(0, 0.0) - robot->at(0.0).T_wb.translation().head<2>();
   EXPECT_GT(at_start.normalized().dot(Eigen::Vector2d(std::cos(M_PI / 6), std::sin(M_PI / 6))), 0.99);
+}
+
+TEST(People, DrawnWalkersCrossTheRobotsRouteButKeepOffTheRobot) {
+  const auto robot = cage_out_and_back();
+  PeopleConfig config;
+  config.walkers = true;
+  config.walker_count = 8;
+  const People people(config, *robot, robot->duration_s(), 11);
+  ASSERT_EQ(people.count(), 8u);
+  for (std::size_t i = 0; i < people.count(); ++i) {
+    const WalkerPath& w = people.walkers()[i];
+    const double length = (w.to_m - w.from_m).norm();
+    EXPECT_GE(length, 8.0);
+    EXPECT_LE(length, 16.0);
+    EXPECT_GE(w.speed_m_s, 1.0);
+    EXPECT_LE(w.speed_m_s, 1.5);
+    double closest_to_robot = 1e9, route_to_path = 1e9;
+    for (double t = 0.0; t <= robot->duration_s(); t += 0.005) {
+      const Eigen::Vector2d robot_xy = robot->at(t).T_wb.translation().head<2>();
+      closest_to_robot = std::min(closest_to_robot, (people.position_xy(i, t) - robot_xy).norm());
+      // Distance from the robot's position to the walker's path segment.
+      const double along = std::clamp((robot_xy - w.from_m).dot(w.to_m - w.from_m) / (length * length), 0.0, 1.0);
+      route_to_path = std::min(route_to_path, (w.from_m + along * (w.to_m - w.from_m) - robot_xy).norm());
+    }
+    // Sampled at 20 Hz when drawn: at a closing speed of up to 5 m/s they may come a little nearer in between.
+    EXPECT_GE(closest_to_robot, 0.8) << "walker " << i;
+    EXPECT_LT(route_to_path, 1e-3) << "walker " << i;
+  }
 }
 
 TEST(People, SomeoneOutOfSightChangesNoByteOfTheLidarStream) {
