@@ -29,6 +29,7 @@ constexpr double kRailHeightM = 1.0;     // lidar above the floor
 constexpr double kCageMaxRollM = 14.0;   // rolls from x = -+7 m to about +-7 m
 constexpr double kCageMaxYawDeg = 10.0;  // heading spread: stays inside the lane
 constexpr double kCageRadiusM = 0.3;     // 11 rad/s is then 3.3 m/s, as in the paper
+constexpr int kBenchWalkers = 4;         // people crossing the lane in the realistic bench's people runs
 
 constexpr double kRailSpeedsMS[] = {0.25, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5};
 constexpr double kTurntableRatesRadS[] = {0.5, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 8.0, 10.0, 11.0};
@@ -325,6 +326,23 @@ std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed) {
       BenchRun run{name, "long", nominal_speed, cage ? "rad/s" : "m/s",
                    scenario_node(route.scene, motion, rng.next_u64(), seed, ++index)};
       turn_on_error_sources(run.scenario, offset_s, cage);
+      plan.push_back(std::move(run));
+    }
+  }
+  // Issue 19's pairs: one cage run four times, the same in every byte but the
+  // returns from the people (their randomness is their own).
+  SensorRng people_rng(seed, "bench-people-runs");
+  for (int k = 1; k <= kBenchPeopleCages; ++k) {
+    const BenchRun base = cage_run(people_rng, k, ++index, seed);
+    for (const char* variant : {"none", "walkers", "puller", "both"}) {
+      char name[64];
+      std::snprintf(name, sizeof name, "people-%02d-%s", k, variant);
+      // A deep copy: assigning a YAML::Node would make the variants share one document.
+      BenchRun run{name, "people", base.nominal_speed, base.speed_unit, YAML::Clone(base.scenario)};
+      turn_on_error_sources(run.scenario, offset_s, true);
+      const std::string v = variant;
+      if (v == "walkers" || v == "both") run.scenario["people"]["walkers"]["count"] = kBenchWalkers;
+      if (v == "puller" || v == "both") run.scenario["people"]["rope_puller"] = YAML::Node(YAML::NodeType::Map);
       plan.push_back(std::move(run));
     }
   }

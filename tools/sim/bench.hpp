@@ -16,11 +16,12 @@ namespace tumble::sim {
 
 inline constexpr int kBenchCageRuns = 46;
 inline constexpr int kBenchLongRunsPerScene = 4;  // realistic bench: garage, corridor, yard
+inline constexpr int kBenchPeopleCages = 3;       // realistic bench: cage runs, each without and with people
 inline constexpr double kBenchStaticStartS = 1.5;
 
 struct BenchRun {
   std::string name;       // also its folder
-  std::string kind;       // rail, turntable, rolling_cage
+  std::string kind;       // rail, turntable, rolling_cage; realistic bench also long, people
   double nominal_speed = 0.0;  // signed: m/s along the rail, rad/s about the table axis, cage roll rate
   std::string speed_unit;      // m/s or rad/s
   YAML::Node scenario;    // a complete scenario document
@@ -40,7 +41,8 @@ std::vector<BenchRun> plan_bench(std::uint64_t seed);
 // error source of tumble-sim on at its datasheet magnitude, the rig's
 // uncalibrated lidar-IMU time offset, the cage's bars in the lidar's view,
 // and long out-and-back runs (>= 60 s, >= 50 m) in the garage, the corridor
-// and the yard.
+// and the yard; then same-seed sets of cage runs that differ only in their
+// people (none, walkers, the rope puller, both; kind people).
 std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed);
 
 // The rig's constant lidar-IMU time offset in a realistic bench: a few ms

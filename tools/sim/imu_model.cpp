@@ -88,7 +88,7 @@ double imu_sample_time_s(const ImuClock& clock, int rate_hz, std::uint64_t k) {
 ImuModel::ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI,
                    const Motion& motion, std::uint64_t noise_seed, bool noise_enabled)
     : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"),
-      jitter_rng_(noise_seed, "imu-timestamp-jitter"), errors_(draw_imu_unit_errors(config, noise_seed)),
+      jitter_rng_(noise_seed, "imu-timestamp-jitter"), vibration_rng_(noise_seed, "imu-vibration"), errors_(draw_imu_unit_errors(config, noise_seed)),
       noise_enabled_(noise_enabled) {
   gyro_bias_ = noise_enabled_ ? gaussian3(config_.gyro_initial_bias_sigma_deg_s * kDegToRad) : Eigen::Vector3d::Zero();
   accel_bias_ = noise_enabled_ ? gaussian3(config_.accel_initial_bias_sigma_m_s2) : Eigen::Vector3d::Zero();
@@ -106,7 +106,16 @@ bool ImuModel::next(double duration_s, ImuMeasurement& out) {
   if (t_s > duration_s) return false;
   const double jitter_s =
       config_.timestamp_jitter ? jitter_rng_.uniform(-config_.timestamp_jitter_s, config_.timestamp_jitter_s) : 0.0;
-  const ImuKinematics ideal = imu_kinematics(motion_.at(t_s + clock_.imu_time_offset_s + jitter_s), T_LI_);
+  const MotionState body = motion_.at(t_s + clock_.imu_time_offset_s + jitter_s);
+  ImuKinematics ideal = imu_kinematics(body, T_LI_);
+  if (config_.vibration) {
+    const double speed = body.v_w.norm(), accel = body.a_w.norm();
+    ideal.specific_force_i += normal3(vibration_rng_, config_.vibration_accel_m_s2_per_m_s * speed +
+                                                          config_.vibration_accel_per_m_s2 * accel);
+    ideal.omega_i += normal3(vibration_rng_, (config_.vibration_gyro_deg_s_per_m_s * speed +
+                                              config_.vibration_gyro_deg_s_per_m_s2 * accel) *
+                                                 kDegToRad);
+  }
   out.t_s = t_s;
   out.gyro_rad_s = errors_.gyro_sensing * ideal.omega_i + errors_.gyro_g_sensitivity_rad_s_per_m_s2 * ideal.specific_force_i;
   out.accel_m_s2 = errors_.accel_sensing * ideal.specific_force_i;

@@ -59,6 +59,23 @@ struct ImuConfig {
   // +-half a tick of the 10 kHz clock (mti.md), the resolution of the stamp.
   bool timestamp_jitter = false;
   double timestamp_jitter_s = 50e-6;
+  // Vibration of the carrier beyond its modelled motion: a cage's bars
+  // drumming on the floor, its frame ringing after an impact. It is broadband
+  // (well above the 100-400 Hz output rate), so what the unit's internal
+  // 10 kHz sampling and strapdown integration pass on is, per output sample,
+  // white noise on the specific force and the rate it measures (then scale
+  // factor, misalignment, g-sensitivity and clipping act on it as on the
+  // motion). 1 sigma per axis: per_speed * |v| + per_accel * |a|, v and a of
+  // the body (rolling speed, impacts). These are the carrier's, not the
+  // unit's: MT0605P specifies how the MTi-30 responds to vibration (its
+  // g-sensitivity above, and the vibration-rejecting gyros of the 100-series),
+  // not how much a rolling cage shakes. The defaults are an assumption: 1 g
+  // RMS at the bench's 3.3 m/s, and 5 % of an impact's peak ringing on.
+  bool vibration = false;
+  double vibration_accel_m_s2_per_m_s = 3.0;
+  double vibration_accel_per_m_s2 = 0.05;           // m/s2 of vibration per m/s2 of the body's acceleration
+  double vibration_gyro_deg_s_per_m_s = 1.0;
+  double vibration_gyro_deg_s_per_m_s2 = 0.02;
 };
 
 // The unit errors drawn for one run (identity / zero where a source is off).
@@ -129,6 +146,7 @@ class ImuModel {
   const Motion& motion_;
   SensorRng rng_;
   SensorRng jitter_rng_;
+  SensorRng vibration_rng_;
   ImuUnitErrors errors_;
   bool noise_enabled_;
   std::uint64_t index_ = 0;

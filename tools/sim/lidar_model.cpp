@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/angles.hpp"
@@ -94,12 +95,13 @@ double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg,
 }
 
 LidarModel::LidarModel(const LidarConfig& config, const LidarUnit& unit, const Scene& scene, const Motion& motion,
-                       std::uint64_t noise_seed, double azimuth_at_zero_deg)
+                       std::uint64_t noise_seed, double azimuth_at_zero_deg, const People* people)
     : config_(config),
       unit_(unit),
       scene_(scene),
       body_(cage_bar_scene(config.cage_bars)),
       motion_(motion),
+      people_(people != nullptr && !people->empty() ? people : nullptr),
       rng_(noise_seed, "lidar-returns"),
       azimuth_at_zero_deg_(azimuth_at_zero_deg),
       motor_deg_per_s_(config.rpm * 6.0) {}
@@ -119,9 +121,11 @@ void LidarModel::fill_packet(std::int64_t first_firing_ns, rs16::MsopPacketData&
   }
 }
 
-std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const {
+std::optional<Hit> LidarModel::first_return(double t_s, const Eigen::Isometry3d& T_wl, const Beam& beam,
+                                            double limit_m) const {
   const Eigen::Vector3d direction_w = T_wl.linear() * beam.direction_l;
-  Eigen::Vector3d origin_w = T_wl * beam.origin_l;
+  const Eigen::Vector3d beam_origin_w = T_wl * beam.origin_l;
+  Eigen::Vector3d origin_w = beam_origin_w;
   double travelled_m = 0.0;
   std::optional<Hit> hit;
   // Through glass panes one after another (a few at most in any scene).
@@ -133,8 +137,12 @@ std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const
     origin_w += (hit->range_m + kPastThePane_m) * direction_w;
     hit.reset();
   }
+  if (hit) hit->range_m += travelled_m;
+  if (people_ != nullptr) {
+    // People stand in front of whatever the world returns (or would reflect away).
+    if (auto person = people_->cast(t_s, beam_origin_w, direction_w, hit ? hit->range_m : limit_m)) hit = person;
+  }
   if (hit) {
-    hit->range_m += travelled_m;
     if (hit->material == Material::Specular &&
         std::abs(direction_w.dot(hit->normal_w)) < std::cos(kSpecularLobeDeg * kDegToRad)) {
       hit.reset();
@@ -150,6 +158,64 @@ std::optional<Hit> LidarModel::first_return(const Eigen::Isometry3d& T_wl, const
   return hit;
 }
 
+std::optional<Hit> LidarModel::footprint_return(double t_s, const Eigen::Isometry3d& T_wl, double azimuth_deg,
+                                                double vertical_deg, double limit_m) const {
+  // Below this depth spread the footprint is on one surface (a slanted one
+  // spreads a few cm): the centre ray stands for it.
+  constexpr double kEdgeGap_m = 0.1;
+  constexpr std::size_t kRays = 5;
+  const double half_h_deg = 0.5e-3 * config_.beam_divergence_horizontal_mrad / kDegToRad;
+  const double half_v_deg = 0.5e-3 * config_.beam_divergence_vertical_mrad / kDegToRad;
+  const std::array<Beam, kRays> rays = {
+      rs16_beam(azimuth_deg, vertical_deg), rs16_beam(azimuth_deg - half_h_deg, vertical_deg),
+      rs16_beam(azimuth_deg + half_h_deg, vertical_deg), rs16_beam(azimuth_deg, vertical_deg - half_v_deg),
+      rs16_beam(azimuth_deg, vertical_deg + half_v_deg)};
+  std::array<std::optional<Hit>, kRays> hits;
+  double nearest_m = std::numeric_limits<double>::infinity(), farthest_m = 0.0;
+  std::size_t returns = 0;
+  for (std::size_t i = 0; i < kRays; ++i) {
+    hits[i] = first_return(t_s, T_wl, rays[i], limit_m);
+    if (!hits[i]) continue;
+    ++returns;
+    nearest_m = std::min(nearest_m, hits[i]->range_m);
+    farthest_m = std::max(farthest_m, hits[i]->range_m);
+  }
+  if (returns == 0) return std::nullopt;
+  if (returns == kRays && farthest_m - nearest_m < kEdgeGap_m) return hits[0];
+
+  // Echo energy of each part of the footprint: its share of the beam times
+  // the surface's effective reflectivity over range squared.
+  const double share = 1.0 / kRays;
+  std::array<double, kRays> energy{};
+  for (std::size_t i = 0; i < kRays; ++i) {
+    if (!hits[i]) continue;
+    const Eigen::Vector3d direction_w = T_wl.linear() * rays[i].direction_l;
+    const double cos_incidence = std::min(1.0, std::abs(direction_w.dot(hits[i]->normal_w)));
+    energy[i] = share * hits[i]->reflectivity * std::pow(cos_incidence, config_.incidence_falloff_exponent) /
+                std::max(hits[i]->range_m * hits[i]->range_m, 1e-6);
+  }
+  // The near echo (everything within the gap of the nearest surface) and the far one.
+  const auto in_near = [&](std::size_t i) { return hits[i]->range_m <= nearest_m + config_.mixed_pixel_max_gap_m; };
+  double near_energy = 0.0, far_energy = 0.0;
+  for (std::size_t i = 0; i < kRays; ++i) {
+    if (hits[i]) (in_near(i) ? near_energy : far_energy) += energy[i];
+  }
+  const bool take_near = near_energy >= far_energy;
+  double weighted_range = 0.0, weight = 0.0, reflectivity = 0.0;
+  std::size_t strongest = kRays;
+  for (std::size_t i = 0; i < kRays; ++i) {
+    if (!hits[i] || in_near(i) != take_near) continue;
+    weighted_range += energy[i] * hits[i]->range_m;
+    weight += energy[i];
+    reflectivity += share * hits[i]->reflectivity;  // a part of the footprint echoes less
+    if (strongest == kRays || energy[i] > energy[strongest]) strongest = i;
+  }
+  Hit merged = *hits[strongest];
+  merged.range_m = weight > 0.0 ? weighted_range / weight : merged.range_m;
+  merged.reflectivity = reflectivity;
+  return merged;
+}
+
 rs16::ChannelReturn LidarModel::fire(double t_s, double azimuth_deg, int laser) {
   const auto laser_index = static_cast<std::size_t>(laser);
   const Beam beam = rs16_beam(azimuth_deg, unit_.vertical_angles_deg[laser_index]);
@@ -158,7 +224,9 @@ rs16::ChannelReturn LidarModel::fire(double t_s, double azimuth_deg, int laser) 
   // Noise can push a return past max range or below min range: cast a little
   // further so the limits act on what the unit measures.
   const double cast_limit_m = config_.max_range_m + 5.0 * config_.range_noise_m;
-  const auto hit = first_return(T_wl, beam, cast_limit_m);
+  const auto hit = config_.mixed_pixels
+                       ? footprint_return(t_s, T_wl, azimuth_deg, unit_.vertical_angles_deg[laser_index], cast_limit_m)
+                       : first_return(t_s, T_wl, beam, cast_limit_m);
   // Draw the noise for every firing so one return's fate never shifts the
   // noise of the next (keeps runs comparable when a scene changes slightly).
   const double noise_m = rng_.normal(config_.range_noise_m);

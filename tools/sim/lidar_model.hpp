@@ -11,6 +11,7 @@
 
 #include "drivers/rs16/msop_encode.hpp"
 #include "tools/sim/motion.hpp"
+#include "tools/sim/people.hpp"
 #include "tools/sim/scene.hpp"
 #include "tools/sim/sensor_rng.hpp"
 
@@ -71,6 +72,24 @@ struct LidarConfig {
   double range_at_reference_reflectivity_m = 150.0;
   double reference_reflectivity = 0.2;
   CageBars cage_bars;
+  // Mixed pixels at depth edges: the beam is a cone, not a line. Where its
+  // footprint straddles a depth edge, the echoes of the near and the far
+  // surface overlap in time and the detector reports one range between them,
+  // weighted by the energy from each; surfaces further apart than
+  // mixed_pixel_max_gap_m give separate echoes and the stronger one is
+  // reported (the unit's strongest-return mode). The footprint is sampled by
+  // five rays (centre and the four edges of the divergence cone, equal
+  // weights), so this costs four extra casts per beam, and only when on.
+  // Divergence: the RS-16 manual (v4.x) gives none. These are Velodyne's
+  // figures for its spinning 905 nm units (VLS-128 user manual, appendix F.2.3,
+  // table F-1: 3.0 mrad (0.18 deg) horizontal, 1.5 mrad (0.09 deg) vertical,
+  // horizontal about twice vertical), taken for the RS-16 until its own are known.
+  // The gap is c * pulse width / 2 for a ~10 ns pulse (an assumption: the
+  // manual gives no pulse width either).
+  bool mixed_pixels = false;
+  double beam_divergence_horizontal_mrad = 3.0;
+  double beam_divergence_vertical_mrad = 1.5;
+  double mixed_pixel_max_gap_m = 1.5;
 };
 
 // What makes one physical unit differ from the design: drawn once per unit seed.
@@ -103,8 +122,9 @@ double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg,
 class LidarModel {
  public:
   // azimuth_at_zero_deg: where the motor points at t = 0 (it is already spinning).
+  // people (may be null: nobody) move in the scene; they must outlive the model.
   LidarModel(const LidarConfig& config, const LidarUnit& unit, const Scene& scene, const Motion& motion,
-             std::uint64_t noise_seed, double azimuth_at_zero_deg);
+             std::uint64_t noise_seed, double azimuth_at_zero_deg, const People* people = nullptr);
 
   // The packet whose first firing is at first_firing_ns (run time); utc_time_ns
   // is left for the caller's clock. Every firing must lie inside the motion.
@@ -112,15 +132,21 @@ class LidarModel {
 
  private:
   rs16::ChannelReturn fire(double t_s, double azimuth_deg, int laser);
-  // The nearest surface a beam returns from: the world (through glass, not
-  // from a mirror seen off-normal) or the robot's body.
-  std::optional<Hit> first_return(const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
+  // The nearest surface a beam fired at t_s returns from: the world (through
+  // glass, not from a mirror seen off-normal), a person, or the robot's body.
+  std::optional<Hit> first_return(double t_s, const Eigen::Isometry3d& T_wl, const Beam& beam, double limit_m) const;
+  // What the whole footprint of the beam returns (mixed_pixels): the centre
+  // ray's hit where the footprint lies on one surface, else the merged or
+  // the strongest echo.
+  std::optional<Hit> footprint_return(double t_s, const Eigen::Isometry3d& T_wl, double azimuth_deg,
+                                      double vertical_deg, double limit_m) const;
 
   LidarConfig config_;
   LidarUnit unit_;
   const Scene& scene_;
   Scene body_;  // the cage bars in L; empty when off
   const Motion& motion_;
+  const People* people_;  // null or empty: nobody
   SensorRng rng_;
   double azimuth_at_zero_deg_;
   double motor_deg_per_s_;

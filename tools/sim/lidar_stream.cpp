@@ -15,12 +15,12 @@ std::int64_t seconds_to_ns(double s) { return static_cast<std::int64_t>(std::llr
 
 LidarStream::LidarStream(const LidarConfig& lidar, const LidarUnit& unit, const LidarLinkConfig& link,
                          const LidarTiming& timing, const Scene& scene, const Motion& motion,
-                         std::uint64_t noise_seed, double duration_s)
+                         std::uint64_t noise_seed, double duration_s, const People* people)
     : lidar_(lidar),
       unit_(unit),
       link_(link),
       timing_(timing),
-      model_(lidar, unit, scene, motion, noise_seed, timing.azimuth_at_zero_deg),
+      model_(lidar, unit, scene, motion, noise_seed, timing.azimuth_at_zero_deg, people),
       latency_rng_(noise_seed, "lidar-network"),
       duration_ns_(seconds_to_ns(duration_s)),
       next_packet_ns_(timing.first_packet_ns),

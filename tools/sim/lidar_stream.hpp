@@ -37,7 +37,8 @@ struct LidarTiming {
 class LidarStream {
  public:
   LidarStream(const LidarConfig& lidar, const LidarUnit& unit, const LidarLinkConfig& link, const LidarTiming& timing,
-              const Scene& scene, const Motion& motion, std::uint64_t noise_seed, double duration_s);
+              const Scene& scene, const Motion& motion, std::uint64_t noise_seed, double duration_s,
+              const People* people = nullptr);
 
   // The next datagram by arrival time; false after the last one of the run.
   bool next(LidarDatagram& out);

@@ -173,6 +173,19 @@ void write_manifest(const SimRun& run, const RunSummary& summary, const fs::path
   imu["reads"] = summary.imu_reads;
   imu["clipped_frames"] = summary.imu_clipped_frames;
   m["imu"] = imu;
+  if (s.people.walkers || s.people.rope_puller) {
+    YAML::Node people = settings["people"];
+    // The walkers' paths as walked (drawn from the seed unless listed).
+    for (const WalkerPath& w : run.people().walkers()) {
+      YAML::Node path;
+      path["from_m"] = flow(std::vector<double>{w.from_m.x(), w.from_m.y()});
+      path["to_m"] = flow(std::vector<double>{w.to_m.x(), w.to_m.y()});
+      path["speed_m_s"] = w.speed_m_s;
+      path["start_m"] = w.start_m;
+      people["walker_paths"].push_back(path);
+    }
+    m["people"] = people;
+  }
   m["motion_description"] = s.motion;
 
   PendingFile file(path);

@@ -7,6 +7,7 @@
 #include <ctime>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "core/angles.hpp"
 #include "tools/sim/yaml_fields.hpp"
@@ -111,7 +112,8 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
               "vertical_offset_sigma_deg", "temperature_c", "unit_seed", "msop_port", "difop_port", "network_latency_s",
               "network_jitter_s", "difop_period_s", "difop_phase_s", "range_offset_error", "range_offset_sigma_m",
               "intensity_range_bias", "intensity_range_walk_m", "dark_surface_dropout",
-              "range_at_reference_reflectivity_m", "reference_reflectivity", "cage_bars"});
+              "range_at_reference_reflectivity_m", "reference_reflectivity", "cage_bars", "mixed_pixels",
+              "beam_divergence_horizontal_mrad", "beam_divergence_vertical_mrad", "mixed_pixel_max_gap_m"});
   LidarConfig& c = s.lidar;
   LidarLinkConfig& link = s.lidar_link;
   c.rpm = read_int_in(m, at, "rpm", c.rpm, 300, 1200);
@@ -133,6 +135,12 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.range_at_reference_reflectivity_m =
       read_in(m, at, "range_at_reference_reflectivity_m", c.range_at_reference_reflectivity_m, 1.0, 1000.0);
   c.reference_reflectivity = read_in(m, at, "reference_reflectivity", c.reference_reflectivity, 0.01, 1.0);
+  c.mixed_pixels = read_bool(m, at, "mixed_pixels", c.mixed_pixels);
+  c.beam_divergence_horizontal_mrad =
+      read_in(m, at, "beam_divergence_horizontal_mrad", c.beam_divergence_horizontal_mrad, 0.0, 50.0);
+  c.beam_divergence_vertical_mrad =
+      read_in(m, at, "beam_divergence_vertical_mrad", c.beam_divergence_vertical_mrad, 0.0, 50.0);
+  c.mixed_pixel_max_gap_m = read_in(m, at, "mixed_pixel_max_gap_m", c.mixed_pixel_max_gap_m, 0.0, 100.0);
   if (has_key(m, "cage_bars")) read_cage_bars(section(m, "cage_bars"), at.key("cage_bars"), c.cage_bars);
   link.msop_port = static_cast<std::uint16_t>(read_int_in(m, at, "msop_port", link.msop_port, 1, 65535));
   link.difop_port = static_cast<std::uint16_t>(read_int_in(m, at, "difop_port", link.difop_port, 1, 65535));
@@ -140,6 +148,107 @@ void read_lidar(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   link.network_jitter_s = read_in(m, at, "network_jitter_s", link.network_jitter_s, 0.0, 0.1);
   link.difop_period_s = read_in(m, at, "difop_period_s", link.difop_period_s, 0.1, 10.0);
   s.difop_phase_s = read_optional_in(m, at, "difop_phase_s", 0.0, link.difop_period_s);
+}
+
+Eigen::Vector2d read_xy(const YAML::Node& m, const YamlPath& at, std::string_view key) {
+  const YAML::Node n = m[std::string(key)];
+  const YamlPath here = at.key(key);
+  if (!n || !n.IsSequence() || n.size() != 2) here.fail("must be 2 numbers [x, y] (m)");
+  Eigen::Vector2d v;
+  for (std::size_t i = 0; i < 2; ++i) {
+    try {
+      v[static_cast<Eigen::Index>(i)] = n[i].as<double>();
+    } catch (const YAML::Exception&) {
+      here.index(i).fail("must be a number");
+    }
+    if (!std::isfinite(v[static_cast<Eigen::Index>(i)])) here.index(i).fail("must be finite");
+  }
+  return v;
+}
+
+void read_walkers(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"count", "speed_m_s", "path_length_m", "paths"});
+  c.walkers = true;
+  c.walker_count = read_int_in(m, at, "count", c.walker_count, 0, 50);
+  std::tie(c.walker_min_speed_m_s, c.walker_max_speed_m_s) =
+      read_positive_range(m, at, "speed_m_s", {c.walker_min_speed_m_s, c.walker_max_speed_m_s});
+  std::tie(c.walker_min_path_m, c.walker_max_path_m) =
+      read_positive_range(m, at, "path_length_m", {c.walker_min_path_m, c.walker_max_path_m});
+  if (!has_key(m, "paths")) return;
+  if (has_key(m, "count")) at.key("count").fail("give either count (paths drawn from the seed) or paths, not both");
+  const YAML::Node paths = m["paths"];
+  if (!paths.IsSequence() || paths.size() == 0) at.key("paths").fail("must be a non-empty list of {from_m, to_m, speed_m_s, start_m}");
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const YamlPath here = at.key("paths").index(i);
+    require_map(paths[i], here);
+    check_keys(paths[i], here, {"from_m", "to_m", "speed_m_s", "start_m"});
+    WalkerPath w;
+    w.from_m = read_xy(paths[i], here, "from_m");
+    w.to_m = read_xy(paths[i], here, "to_m");
+    w.speed_m_s = read_in(paths[i], here, "speed_m_s", w.speed_m_s, 0.0, 10.0);
+    w.start_m = read_in(paths[i], here, "start_m", w.start_m, 0.0, 1e4);
+    c.walker_paths.push_back(w);
+  }
+}
+
+void read_rope_puller(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"ahead_m", "surge_m", "surge_period_s", "heading_lag_s"});
+  c.rope_puller = true;
+  c.puller_ahead_m = read_in(m, at, "ahead_m", c.puller_ahead_m, 0.5, 20.0);
+  c.puller_surge_m = read_in(m, at, "surge_m", c.puller_surge_m, 0.0, c.puller_ahead_m - 0.5);
+  c.puller_surge_period_s = read_in(m, at, "surge_period_s", c.puller_surge_period_s, 0.5, 600.0);
+  c.puller_heading_lag_s = read_in(m, at, "heading_lag_s", c.puller_heading_lag_s, 0.01, 10.0);
+}
+
+void read_people(const YAML::Node& m, const YamlPath& at, PeopleConfig& c) {
+  check_keys(m, at, {"seed", "radius_m", "height_m", "reflectivity", "floor_z_m", "walkers", "rope_puller"});
+  if (has_key(m, "seed")) c.seed = read_seed(m, at, "seed", 0);
+  c.radius_m = read_in(m, at, "radius_m", c.radius_m, 0.05, 2.0);
+  c.height_m = read_in(m, at, "height_m", c.height_m, 0.1, 3.0);
+  c.reflectivity = read_in(m, at, "reflectivity", c.reflectivity, 0.0, 1.0);
+  c.floor_z_m = read_in(m, at, "floor_z_m", c.floor_z_m, -1e4, 1e4);
+  if (has_key(m, "walkers")) read_walkers(section(m, "walkers"), at.key("walkers"), c);
+  if (has_key(m, "rope_puller")) read_rope_puller(section(m, "rope_puller"), at.key("rope_puller"), c);
+}
+
+// The people section as read (null when nobody is on).
+YAML::Node people_to_yaml(const PeopleConfig& c) {
+  YAML::Node n;
+  if (c.seed) n["seed"] = *c.seed;
+  n["radius_m"] = c.radius_m;
+  n["height_m"] = c.height_m;
+  n["reflectivity"] = c.reflectivity;
+  n["floor_z_m"] = c.floor_z_m;
+  if (c.walkers) {
+    YAML::Node w;
+    if (c.walker_paths.empty()) {
+      w["count"] = c.walker_count;
+      w["speed_m_s"] = std::vector<double>{c.walker_min_speed_m_s, c.walker_max_speed_m_s};
+      w["speed_m_s"].SetStyle(YAML::EmitterStyle::Flow);
+      w["path_length_m"] = std::vector<double>{c.walker_min_path_m, c.walker_max_path_m};
+      w["path_length_m"].SetStyle(YAML::EmitterStyle::Flow);
+    }
+    for (const WalkerPath& p : c.walker_paths) {
+      YAML::Node path;
+      path["from_m"] = std::vector<double>{p.from_m.x(), p.from_m.y()};
+      path["to_m"] = std::vector<double>{p.to_m.x(), p.to_m.y()};
+      path["from_m"].SetStyle(YAML::EmitterStyle::Flow);
+      path["to_m"].SetStyle(YAML::EmitterStyle::Flow);
+      path["speed_m_s"] = p.speed_m_s;
+      path["start_m"] = p.start_m;
+      w["paths"].push_back(path);
+    }
+    n["walkers"] = w;
+  }
+  if (c.rope_puller) {
+    YAML::Node r;
+    r["ahead_m"] = c.puller_ahead_m;
+    r["surge_m"] = c.puller_surge_m;
+    r["surge_period_s"] = c.puller_surge_period_s;
+    r["heading_lag_s"] = c.puller_heading_lag_s;
+    n["rope_puller"] = r;
+  }
+  return n;
 }
 
 void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
@@ -151,7 +260,9 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
               "number_format", "leading_garbage_bytes", "leading_config_ack", "scale_factor_error",
               "gyro_scale_factor_sigma_pct", "accel_scale_factor_sigma_pct", "misalignment", "misalignment_sigma_deg",
               "g_sensitivity", "gyro_g_sensitivity_deg_s_per_g", "temperature_drift", "gyro_temperature_drift_deg_s",
-              "accel_temperature_drift_m_s2", "warm_up_time_constant_s", "timestamp_jitter", "timestamp_jitter_s"});
+              "accel_temperature_drift_m_s2", "warm_up_time_constant_s", "timestamp_jitter", "timestamp_jitter_s",
+              "vibration", "vibration_accel_m_s2_per_m_s", "vibration_accel_per_m_s2", "vibration_gyro_deg_s_per_m_s",
+              "vibration_gyro_deg_s_per_m_s2"});
   ImuConfig& c = s.imu;
   ImuLinkConfig& link = s.imu_link;
   c.rate_hz = read_int_in(m, at, "rate_hz", c.rate_hz, 1, 400);
@@ -179,6 +290,11 @@ void read_imu(const YAML::Node& m, const YamlPath& at, Scenario& s) {
   c.warm_up_time_constant_s = read_in(m, at, "warm_up_time_constant_s", c.warm_up_time_constant_s, 1.0, 1e5);
   c.timestamp_jitter = read_bool(m, at, "timestamp_jitter", c.timestamp_jitter);
   c.timestamp_jitter_s = read_in(m, at, "timestamp_jitter_s", c.timestamp_jitter_s, 0.0, 0.01);
+  c.vibration = read_bool(m, at, "vibration", c.vibration);
+  c.vibration_accel_m_s2_per_m_s = read_in(m, at, "vibration_accel_m_s2_per_m_s", c.vibration_accel_m_s2_per_m_s, 0.0, 100.0);
+  c.vibration_accel_per_m_s2 = read_in(m, at, "vibration_accel_per_m_s2", c.vibration_accel_per_m_s2, 0.0, 10.0);
+  c.vibration_gyro_deg_s_per_m_s = read_in(m, at, "vibration_gyro_deg_s_per_m_s", c.vibration_gyro_deg_s_per_m_s, 0.0, 100.0);
+  c.vibration_gyro_deg_s_per_m_s2 = read_in(m, at, "vibration_gyro_deg_s_per_m_s2", c.vibration_gyro_deg_s_per_m_s2, 0.0, 10.0);
   s.imu_clock_drift_ppm = read_optional_in(m, at, "clock_drift_ppm", -1000.0, 1000.0);
   s.imu_sample_time_start_s = read_optional_in(m, at, "sample_time_fine_start_s", 0.0, 86399.0);
   link.baud = read_int_in(m, at, "baud", link.baud, 9600, 4'000'000);
@@ -234,7 +350,7 @@ Scenario parse_scenario(const YAML::Node& root, const std::string& source_name, 
   const YamlPath at{source_name, ""};
   check_keys(root, at,
              {"scene", "motion", "seed", "motion_seed", "duration_s", "epoch_utc", "ground_truth_rate_hz", "extrinsics",
-              "lidar", "imu"});
+              "lidar", "imu", "people"});
 
   s.scene_ref = read_string(root, at, "scene");
   s.scene_path = resolve_ref(s.scene_ref, "scenes", base_dir);
@@ -269,6 +385,7 @@ Scenario parse_scenario(const YAML::Node& root, const std::string& source_name, 
   s.imu_time_offset_s = read_in(extrinsics, at.key("extrinsics"), "imu_time_offset_s", 0.0, -1.0, 1.0);
   read_lidar(section(root, "lidar"), at.key("lidar"), s);
   read_imu(section(root, "imu"), at.key("imu"), s);
+  read_people(section(root, "people"), at.key("people"), s.people);
   return s;
 }
 
@@ -328,6 +445,12 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
     l["dark_surface_dropout"] = true;
     l["range_at_reference_reflectivity_m"] = s.lidar.range_at_reference_reflectivity_m;
     l["reference_reflectivity"] = s.lidar.reference_reflectivity;
+  }
+  if (s.lidar.mixed_pixels) {
+    l["mixed_pixels"] = true;
+    l["beam_divergence_horizontal_mrad"] = s.lidar.beam_divergence_horizontal_mrad;
+    l["beam_divergence_vertical_mrad"] = s.lidar.beam_divergence_vertical_mrad;
+    l["mixed_pixel_max_gap_m"] = s.lidar.mixed_pixel_max_gap_m;
   }
   if (s.lidar.cage_bars.enabled) {
     const CageBars& b = s.lidar.cage_bars;
@@ -389,7 +512,16 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
     i["timestamp_jitter"] = true;
     i["timestamp_jitter_s"] = s.imu.timestamp_jitter_s;
   }
+  if (s.imu.vibration) {
+    i["vibration"] = true;
+    i["vibration_accel_m_s2_per_m_s"] = s.imu.vibration_accel_m_s2_per_m_s;
+    i["vibration_accel_per_m_s2"] = s.imu.vibration_accel_per_m_s2;
+    i["vibration_gyro_deg_s_per_m_s"] = s.imu.vibration_gyro_deg_s_per_m_s;
+    i["vibration_gyro_deg_s_per_m_s2"] = s.imu.vibration_gyro_deg_s_per_m_s2;
+  }
   n["imu"] = i;
+  // Only when someone is there, so the files of runs without people stay as they were.
+  if (s.people.walkers || s.people.rope_puller) n["people"] = people_to_yaml(s.people);
   return n;
 }
 

@@ -13,6 +13,7 @@
 
 #include "tools/sim/imu_stream.hpp"
 #include "tools/sim/lidar_stream.hpp"
+#include "tools/sim/people.hpp"
 #include "tools/sim/sim_config_error.hpp"
 
 namespace tumble::sim {
@@ -41,6 +42,8 @@ struct Scenario {
   bool imu_noise = true;                         // false: ideal readings (still clipped)
   std::optional<double> imu_clock_drift_ppm;     // default: random in [-10, 10]
   std::optional<double> imu_sample_time_start_s;  // SampleTimeFine of the first sample; default: random
+
+  PeopleConfig people;  // walkers and the rope puller, each off unless its section is present
 };
 
 // Where named scenes, motions and scenarios live (the source tree).

@@ -60,11 +60,13 @@ SimRun::SimRun(Scenario scenario)
                                  ticks_per_sample);
   imu_clock_.first_packet_counter = counter;
   imu_clock_.imu_time_offset_s = s.imu_time_offset_s;
+  // Last, from their own streams: people move no sensor's random numbers.
+  if (s.people.walkers || s.people.rope_puller) people_ = People(s.people, *motion_, duration_s_, s.seed);
 }
 
 LidarStream SimRun::lidar_stream() const {
   return LidarStream(scenario_.lidar, lidar_unit_, scenario_.lidar_link, lidar_timing_, scene_, *motion_,
-                     scenario_.seed, duration_s_);
+                     scenario_.seed, duration_s_, &people_);
 }
 
 ImuStream SimRun::imu_stream() const {

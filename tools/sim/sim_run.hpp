@@ -25,6 +25,7 @@ class SimRun {
   const LidarUnit& lidar_unit() const { return lidar_unit_; }
   const LidarTiming& lidar_timing() const { return lidar_timing_; }
   const ImuClock& imu_clock() const { return imu_clock_; }
+  const People& people() const { return people_; }
 
   // Moves run time 0 to another moment of the host clock (live mode starts now).
   void set_epoch_ns(std::int64_t epoch_ns) {
@@ -44,6 +45,7 @@ class SimRun {
   LidarUnit lidar_unit_;
   LidarTiming lidar_timing_;
   ImuClock imu_clock_;
+  People people_;
 };
 
 }  // namespace tumble::sim

@@ -115,7 +115,7 @@ std::unique_ptr<Motion> motion_of(const BenchRun& run) {
 TEST(RealisticBench, IsTodaysRunsWithEveryErrorSourceOnPlusLongRuns) {
   const auto today = plan_bench(7);
   const auto plan = plan_realistic_bench(7);
-  ASSERT_EQ(plan.size(), today.size() + 3 * kBenchLongRunsPerScene);
+  ASSERT_EQ(plan.size(), today.size() + 3 * kBenchLongRunsPerScene + 4 * kBenchPeopleCages);
   const double offset_s = realistic_rig_imu_time_offset_s(7);
   EXPECT_GE(std::abs(offset_s), 0.002);
   EXPECT_LE(std::abs(offset_s), 0.005);
@@ -136,6 +136,34 @@ TEST(RealisticBench, IsTodaysRunsWithEveryErrorSourceOnPlusLongRuns) {
   }
   EXPECT_EQ(dump(plan), dump(plan_realistic_bench(7)));
   EXPECT_NE(dump(plan), dump(plan_realistic_bench(8)));
+}
+
+TEST(RealisticBench, PeopleRunsComeInFoursThatDifferOnlyInTheirPeople) {
+  const auto plan = plan_realistic_bench(5);
+  std::vector<BenchRun> people;
+  for (const BenchRun& run : plan)
+    if (run.kind == "people") people.push_back(run);
+  ASSERT_EQ(people.size(), 4u * kBenchPeopleCages);
+  for (std::size_t k = 0; k < people.size(); k += 4) {
+    SCOPED_TRACE(people[k].name);
+    const std::string prefix = people[k].name.substr(0, 10);  // "people-01-"
+    const char* variants[] = {"none", "walkers", "puller", "both"};
+    std::vector<Scenario> s;
+    for (std::size_t v = 0; v < 4; ++v) {
+      EXPECT_EQ(people[k + v].name, prefix + variants[v]);
+      s.push_back(parse_scenario(people[k + v].scenario, people[k + v].name, "."));
+      YAML::Node without = YAML::Clone(people[k + v].scenario);
+      without.remove("people");
+      EXPECT_EQ(YAML::Dump(without), YAML::Dump(people[k].scenario));
+    }
+    EXPECT_EQ(people[k].scenario["motion"]["type"].as<std::string>(), "rolling_cage");
+    EXPECT_FALSE(s[0].people.walkers || s[0].people.rope_puller);
+    EXPECT_TRUE(s[1].people.walkers && !s[1].people.rope_puller);
+    EXPECT_TRUE(!s[2].people.walkers && s[2].people.rope_puller);
+    EXPECT_TRUE(s[3].people.walkers && s[3].people.rope_puller);
+  }
+  // Appended: the runs before them are the bench without people runs, unchanged.
+  EXPECT_EQ(plan[plan.size() - people.size() - 1].kind, "long");
 }
 
 TEST(RealisticBench, LongRunsGoOutAtLeast25mAndComeBackInAMinuteOrMore) {

@@ -178,5 +178,55 @@ TEST(ImuErrorSources, EachSourceDrawsFromItsOwnStreamAndASeedRepeats) {
   EXPECT_NE(draw_imu_unit_errors(all, 7).gyro_sensing, draw_imu_unit_errors(all, 8).gyro_sensing);
 }
 
+// Straight along x at a constant speed: no acceleration, no rotation.
+class CruiseMotion final : public Motion {
+ public:
+  explicit CruiseMotion(double speed_m_s) : speed_(speed_m_s) {}
+  MotionState at(double t_s) const override {
+    MotionState s;
+    s.T_wb.translation() = Eigen::Vector3d(speed_ * t_s, 0.0, 1.0);
+    s.v_w = Eigen::Vector3d(speed_, 0.0, 0.0);
+    return s;
+  }
+  double duration_s() const override { return 10.0; }
+
+ private:
+  double speed_;
+};
+
+TEST(ImuVibration, IsWhiteNoiseGrowingWithSpeedAndNothingAtRest) {
+  ImuConfig on;
+  on.vibration = true;
+  for (const double speed : {0.0, 2.0}) {
+    const CruiseMotion motion(speed);
+    ImuModel with(on, clock_at_zero(), Eigen::Isometry3d::Identity(), motion, 3, false);
+    ImuModel without(ImuConfig{}, clock_at_zero(), Eigen::Isometry3d::Identity(), motion, 3, false);
+    std::vector<double> accel, gyro;
+    ImuMeasurement a, b;
+    while (with.next(motion.duration_s(), a)) {
+      ASSERT_TRUE(without.next(motion.duration_s(), b));
+      for (int axis = 0; axis < 3; ++axis) {
+        accel.push_back(a.accel_m_s2[axis] - b.accel_m_s2[axis]);
+        gyro.push_back(a.gyro_rad_s[axis] - b.gyro_rad_s[axis]);
+      }
+    }
+    ASSERT_GE(accel.size(), 3000u);
+    if (speed == 0.0) {
+      for (const double d : accel) EXPECT_EQ(d, 0.0);
+      for (const double d : gyro) EXPECT_EQ(d, 0.0);
+    } else {
+      expect_sigma(accel, 3.0 * speed);
+      expect_sigma(gyro, 1.0 * speed * kDegToRad);
+      // Independent from sample to sample (broadband): no lag-1 correlation.
+      double lag1 = 0.0, sq = 0.0;
+      for (std::size_t i = 3; i < accel.size(); ++i) {
+        lag1 += accel[i] * accel[i - 3];
+        sq += accel[i] * accel[i];
+      }
+      EXPECT_LT(std::abs(lag1 / sq), 0.1);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace tumble::sim

@@ -128,12 +128,13 @@ TEST(Scenario, ErrorSourcesAreOffByDefaultAndSwitchedByKey) {
   EXPECT_FALSE(off.imu.scale_factor_error || off.imu.misalignment || off.imu.g_sensitivity || off.imu.temperature_drift ||
                off.imu.timestamp_jitter);
   EXPECT_FALSE(off.lidar.range_offset_error || off.lidar.intensity_range_bias || off.lidar.dark_surface_dropout ||
-               off.lidar.cage_bars.enabled);
+               off.lidar.cage_bars.enabled || off.lidar.mixed_pixels);
   // Files of runs without them carry none of their keys.
   const YAML::Node off_yaml = scenario_to_yaml(off);
   for (const char* key : {"scale_factor_error", "misalignment", "g_sensitivity", "temperature_drift", "timestamp_jitter"})
     EXPECT_FALSE(off_yaml["imu"][key]) << key;
-  for (const char* key : {"range_offset_error", "intensity_range_bias", "dark_surface_dropout", "cage_bars"})
+  for (const char* key : {"range_offset_error", "intensity_range_bias", "dark_surface_dropout", "cage_bars",
+                          "mixed_pixels", "beam_divergence_horizontal_mrad"})
     EXPECT_FALSE(off_yaml["lidar"][key]) << key;
 
   const Scenario on = parse(std::string(kMinimal) +
@@ -141,7 +142,8 @@ TEST(Scenario, ErrorSourcesAreOffByDefaultAndSwitchedByKey) {
                             "g_sensitivity: true, temperature_drift: true, warm_up_time_constant_s: 60, "
                             "timestamp_jitter: true, timestamp_jitter_s: 0.0001}\n"
                             "lidar: {range_offset_error: true, range_offset_sigma_m: 0.02, intensity_range_bias: true, "
-                            "dark_surface_dropout: true, cage_bars: {count: 6, cage_radius_m: 0.5}}\n");
+                            "dark_surface_dropout: true, cage_bars: {count: 6, cage_radius_m: 0.5}, mixed_pixels: true, "
+                            "beam_divergence_vertical_mrad: 2}\n");
   EXPECT_TRUE(on.imu.scale_factor_error && on.imu.misalignment && on.imu.g_sensitivity && on.imu.temperature_drift &&
               on.imu.timestamp_jitter);
   EXPECT_DOUBLE_EQ(on.imu.gyro_scale_factor_sigma_pct, 0.5);
@@ -151,6 +153,9 @@ TEST(Scenario, ErrorSourcesAreOffByDefaultAndSwitchedByKey) {
   EXPECT_DOUBLE_EQ(on.lidar.range_offset_sigma_m, 0.02);
   EXPECT_TRUE(on.lidar.cage_bars.enabled);
   EXPECT_EQ(on.lidar.cage_bars.count, 6);
+  EXPECT_TRUE(on.lidar.mixed_pixels);
+  EXPECT_DOUBLE_EQ(on.lidar.beam_divergence_vertical_mrad, 2.0);
+  EXPECT_DOUBLE_EQ(on.lidar.beam_divergence_horizontal_mrad, 3.0);
   const Scenario back = parse_scenario(scenario_to_yaml(on), "back.yaml", ".");
   EXPECT_EQ(YAML::Dump(scenario_to_yaml(back)), YAML::Dump(scenario_to_yaml(on)));
 
