@@ -47,6 +47,8 @@ struct PeopleConfig {
   double puller_surge_m = 0.3;        // the rope slackens and tightens: +- this, smoothly
   double puller_surge_period_s = 4.0;
   double puller_heading_lag_s = 0.5;  // time constant of turning with the robot's direction of travel
+
+  bool any() const { return walkers || rope_puller; }
 };
 
 class People {

@@ -173,7 +173,7 @@ void write_manifest(const SimRun& run, const RunSummary& summary, const fs::path
   imu["reads"] = summary.imu_reads;
   imu["clipped_frames"] = summary.imu_clipped_frames;
   m["imu"] = imu;
-  if (s.people.walkers || s.people.rope_puller) {
+  if (s.people.any()) {
     YAML::Node people = settings["people"];
     // The walkers' paths as walked (drawn from the seed unless listed).
     for (const WalkerPath& w : run.people().walkers()) {

@@ -521,7 +521,7 @@ YAML::Node scenario_to_yaml(const Scenario& s) {
   }
   n["imu"] = i;
   // Only when someone is there, so the files of runs without people stay as they were.
-  if (s.people.walkers || s.people.rope_puller) n["people"] = people_to_yaml(s.people);
+  if (s.people.any()) n["people"] = people_to_yaml(s.people);
   return n;
 }
 

@@ -61,7 +61,7 @@ SimRun::SimRun(Scenario scenario)
   imu_clock_.first_packet_counter = counter;
   imu_clock_.imu_time_offset_s = s.imu_time_offset_s;
   // Last, from their own streams: people move no sensor's random numbers.
-  if (s.people.walkers || s.people.rope_puller) people_ = People(s.people, *motion_, duration_s_, s.seed);
+  if (s.people.any()) people_ = People(s.people, *motion_, duration_s_, s.seed);
 }
 
 LidarStream SimRun::lidar_stream() const {

@@ -85,12 +85,7 @@ TEST(RigCalibration, FindsTheRotationTheTimeOffsetAndTheLeverArmOfAnUpsideDownMo
 TEST(RigCalibration, ARigThatDidNotMoveOrAMissingFileIsAOneLineError) {
   if (tumble::test::kCoarseTests) GTEST_SKIP() << "registers scans: release builds only";
   TempDir dir;
-  const std::string yaml =
-      "scene: garage\n"
-      "motion: {type: static, duration_s: 1.5, origin: {xyz_m: [-12, 0, 1.2]}}\n"
-      "seed: 3\n";
-  sim::write_run(sim::SimRun(sim::parse_scenario(YAML::Load(yaml), "still.yaml", sim::sim_data_dir("scenes"))),
-                 dir.path() / "still");
+  test::write_still_garage_run(dir.path() / "still", 1.5);
   try {
     calibrate_rig(dir.path() / "still", RigOptions{});
     ADD_FAILURE() << "a rig at rest was calibrated";

@@ -1,12 +1,9 @@
 #include "tools/calib/run_inputs.hpp"
 
 #include <gtest/gtest.h>
-#include <yaml-cpp/yaml.h>
 
 #include "test/tools/calib/temp_dir.hpp"
 #include "tools/sim/fault_injector.hpp"
-#include "tools/sim/scenario.hpp"
-#include "tools/sim/run_writer.hpp"
 
 namespace tumble::calib {
 namespace {
@@ -26,12 +23,7 @@ double first_scan_start_s(const std::filesystem::path& pcap, rs16::ClockMode clo
 // from the IMU's samples, and no offset search finds that.
 TEST(RunInputs, AFreeLidarClockIsMappedToTheArrivalTimesASyncedOneIsTakenAsIs) {
   TempDir dir;
-  const std::string yaml =
-      "scene: garage\n"
-      "motion: {type: static, duration_s: 0.5, origin: {xyz_m: [-12, 0, 1.2]}}\n"
-      "seed: 3\n";
-  sim::write_run(sim::SimRun(sim::parse_scenario(YAML::Load(yaml), "still.yaml", sim::sim_data_dir("scenes"))),
-                 dir.path() / "synced");
+  test::write_still_garage_run(dir.path() / "synced", 0.5);
   sim::FaultPlan own_clock;
   own_clock.lidar_clock_jump = sim::ClockJump{.at_s = 0.0, .jump_s = 100.0};
   sim::inject_faults(dir.path() / "synced", dir.path() / "free", own_clock);
