@@ -173,7 +173,8 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.degeneracy = icp.degeneracy;
     timing.icp_matching_s = icp.matching_s;
     timing.icp_solve_s = icp.solve_s;
-    result.translation_from_prediction_m = (icp.T_wl.translation() - predicted.translation()).norm();
+    result.correction_w = icp.T_wl.translation() - predicted.translation();
+    result.translation_from_prediction_m = result.correction_w.norm();
     result.rotation_from_prediction_rad =
         Eigen::AngleAxisd(predicted.rotation().transpose() * icp.T_wl.rotation()).angle();
     const auto beyond = [](double value, double limit) { return limit > 0 && value > limit; };

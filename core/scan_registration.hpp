@@ -105,6 +105,7 @@ struct ScanResult {
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used
   double translation_from_prediction_m = 0;  // ICP's pose vs the trajectory's, at the scan start
   double rotation_from_prediction_rad = 0;
+  Eigen::Vector3d correction_w = Eigen::Vector3d::Zero();  // ICP's position minus the trajectory's, W axes
   bool converged = false;
   int iterations = 0;
   double inlier_ratio = 0;

@@ -170,6 +170,7 @@ void visit_config(Visitor& v, Config& c) {
       v.field("good_scans_to_recover", h.good_scans_to_recover, IntRange{1, 1000});
       v.field("min_matched_ratio", h.min_matched_ratio, Range{0.0, 1.0});
       v.field("min_degeneracy", h.min_degeneracy, Range{0.0, 1.0});
+      v.field("max_expected_error_m", h.max_expected_error_m, Range{0.001, 10.0});
     });
   });
   v.section("record", [&] { v.field("dir", c.record.dir, AnyText{}); });

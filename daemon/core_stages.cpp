@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "core/angles.hpp"
+#include "core/registration_confidence.hpp"
 #include "tumble/scan_t.hpp"
 
 namespace tumble::daemon {
@@ -100,14 +101,16 @@ TrajectorySample to_sample(const TrajectoryRecord& r) {
 
 // ---- fuser ------------------------------------------------------------------------
 
-CoreFuserStage::CoreFuserStage(const OdometryParams& params) : params_(params), fuser_(params.fuser) {}
+CoreFuserStage::CoreFuserStage(const OdometryParams& params) : params_(params), fuser_(params.fuser) {
+  const double var = params.min_position_sigma_m * params.min_position_sigma_m;
+  position_var_m2_ = {var, var, var};
+}
 
 TrajectoryRecord CoreFuserStage::record_of(const TrajectorySample& sample) const {
   TrajectoryRecord r = to_record(sample);
   const Eigen::Vector3d velocity_var = fuser_.velocity_variance();
   r.velocity_var_m2_s2 = {velocity_var.x(), velocity_var.y(), velocity_var.z()};
-  const double position_var = params_.min_position_sigma_m * params_.min_position_sigma_m;
-  r.position_var_m2 = {position_var, position_var, position_var};
+  r.position_var_m2 = position_var_m2_;
   r.lidar_corrected = fuser_.stats().velocity_updates > 0;
   r.attitude_from_device = params_.fuser.attitude_from_device;
   r.resets = resets_;
@@ -129,6 +132,8 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
                                     const std::function<void(const TrajectoryRecord&)>& republish) {
   resets_ = registration.resets;
   if (!registration.registered || !fuser_.initialized()) return;
+  // The registered pose's published covariance: it grows where the scan hardly constrains the pose.
+  for (std::size_t k = 0; k < 3; ++k) position_var_m2_[k] = registration.covariance[k * 7];
   const auto& q = registration.orientation_wxyz;
   Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
   T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
@@ -347,7 +352,10 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   const Eigen::Vector3d v = velocity_at(trajectory, result.t_scan_start_s);
   out.velocity_m_s = {v.x(), v.y(), v.z()};
-  for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = result.covariance(i / 6, i % 6);
+  // The scan that starts a map defines it: no registration error, only the floor.
+  const Matrix6d covariance = published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance);
+  for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
+  out.expected_error_m = static_cast<float>(expected_position_error_m(covariance));
   out.iterations = result.iterations;
   out.registered = result.registered;
   out.map_initialised = result.map_initialised;
@@ -359,6 +367,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.correction_deg = static_cast<float>(result.rotation_from_prediction_rad * kRadToDeg);
   out.residual_m = static_cast<float>(result.residual_rms_m);
   out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);
+  for (int k = 0; k < 3; ++k) out.correction_w_m[k] = static_cast<float>(result.correction_w[k]);
   out.points_used = static_cast<std::int32_t>(result.points_registered);
 
   const PointCloud& reading = registration_.reading();

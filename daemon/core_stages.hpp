@@ -5,6 +5,7 @@
 // rebuilds a core Trajectory from the window around each scan.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -46,6 +47,7 @@ class CoreFuserStage : public FuserStage {
   double newest_published_s_ = -1e300;
   std::int32_t resets_ = 0;
   std::uint64_t reanchors_corrected_ = 0;  // the fuser's re-anchor count at the newest correction
+  std::array<double, 3> position_var_m2_{};  // of the newest registered pose (until one: min_position_sigma_m²)
 };
 
 // The registration thread's stage. Beyond registering (issue 13):

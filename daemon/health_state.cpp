@@ -24,6 +24,9 @@ constexpr std::string_view kLidarSilent = "no lidar data for too long: the pose 
 constexpr std::string_view kSpinRateUnmeasured =
     "gyro clipped about the lidar's spin axis: that rotation is the registration's alone";
 
+constexpr std::string_view kWeaklyConstrained =
+    "registration weakly constrained: expected position error above daemon.health.max_expected_error_m";
+
 std::string_view stale_sensor(const HealthInputs& in) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
   if (!in.imu_fresh) return "no IMU data";
@@ -55,6 +58,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
     case S::Tracking:
       if (!fresh) return {S::Degraded, stale};
       if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
+      if (in.weakly_constrained_scans_in_period > 0) return {S::Degraded, kWeaklyConstrained};
       if (in.bad_scans_in_period > 0) return {S::Degraded, "poor scan registration"};
       if (in.data_dropped) return {S::Degraded, "data dropped"};
       break;
@@ -64,6 +68,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
       if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
+      if (in.weakly_constrained_scans_in_period > 0) return {S::Degraded, kWeaklyConstrained};
       break;
     case S::Lost:
       if (!fresh) break;

@@ -22,8 +22,9 @@
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
-// and the gyro not clipped about the lidar's spin axis (a bad scan for that
-// reason is reported as such).
+// the gyro not clipped about the lidar's spin axis, and the expected error of
+// the registered pose within daemon.health.max_expected_error_m (a bad scan for
+// either of these two reasons is reported as such).
 // "Data dropped": a ring dropped items or a scan was discarded in the period.
 #pragma once
 
@@ -44,6 +45,7 @@ struct HealthInputs {
   bool fuser_initialised = false;
   int bad_scans_in_period = 0;
   int spin_rate_unmeasured_scans_in_period = 0;  // gyro clipped about the lidar's spin axis (not good scans either)
+  int weakly_constrained_scans_in_period = 0;    // expected error above the limit (not good scans either)
   int consecutive_good_scans = 0;  // ending with the newest scan
   bool data_dropped = false;
   int resets_in_period = 0;          // local maps given up

@@ -29,6 +29,7 @@ Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy, HealthCloc
       registration_nice_(config.daemon.registration_nice),
       trajectory_wait_ns_(std::llround(config.daemon.trajectory_wait_s * 1e9)),
       trajectory_wait_s_(config.daemon.trajectory_wait_s),
+      max_expected_error_m_(config.daemon.health.max_expected_error_m),
       sensor_time_(clock == HealthClock::Sensor),
       imu_(capacity(config.daemon.imu_ring_capacity)),
       lidar_(capacity(config.daemon.lidar_ring_capacity)),
@@ -476,6 +477,8 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   if (registration_out_.untrusted) counters_.scans_untrusted.fetch_add(1, std::memory_order_relaxed);
   if (registration_out_.spin_rate_unmeasured)
     counters_.scans_spin_rate_unmeasured.fetch_add(1, std::memory_order_relaxed);
+  if (weakly_constrained(registration_out_, max_expected_error_m_))
+    counters_.scans_weakly_constrained.fetch_add(1, std::memory_order_relaxed);
   // Statistics: live, dropping the oldest is fine; on sensor time they decide the health machine.
   if (sensor_time_) {
     push_health(scan_reports_, registration_out_);

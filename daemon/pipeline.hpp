@@ -149,6 +149,7 @@ class Pipeline {
   const int registration_nice_;
   const std::int64_t trajectory_wait_ns_;
   const double trajectory_wait_s_;
+  const double max_expected_error_m_;
   const bool sensor_time_;
 
   // Before parts_: sources built on the io_context must be destroyed before it.

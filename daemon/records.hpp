@@ -75,7 +75,7 @@ struct RegistrationRecord {
   std::array<double, 3> position_m{};
   std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};
   std::array<double, 3> velocity_m_s{};
-  std::array<double, 36> covariance{};  // 6x6 row-major over (tx, ty, tz, rx, ry, rz)
+  std::array<double, 36> covariance{};  // 6x6 row-major over (tx, ty, tz, rx, ry, rz): published_covariance()
   std::int32_t iterations = 0;
   bool registered = false;       // false: the fuser's pose is reported and no correction is made
   bool map_initialised = false;  // the scan that started the map
@@ -85,8 +85,12 @@ struct RegistrationRecord {
   float matched_ratio = 0.0f;      // ICP points with a map match at the last iteration
   float correction_m = 0.0f;       // ICP's pose from the IMU-propagated one, at the scan start
   float correction_deg = 0.0f;
+  std::array<float, 3> correction_w_m{};  // ICP's position minus the IMU-propagated one, W axes
   float residual_m = 0.0f;
   float degeneracy = 0.0f;
+  // expected_position_error_m() of the covariance; above daemon.health.max_expected_error_m
+  // the scan is weakly constrained (not a good scan).
+  float expected_error_m = 0.0f;
   WeightModel model = WeightModel::GVTW;
   bool deskew = true;
   std::int32_t points_in = 0;
@@ -104,6 +108,12 @@ struct RegistrationRecord {
   // came from the registrations, which hardly observe it (core_stages.hpp).
   bool spin_rate_unmeasured = false;
 };
+
+// Registered and used, but its expected error (records' expected_error_m) is
+// above the limit: the pose may be wrong along its least constrained direction.
+inline bool weakly_constrained(const RegistrationRecord& r, double max_expected_error_m) {
+  return r.registered && !(r.expected_error_m <= max_expected_error_m);
+}
 
 // The sensors' own time, as the io thread sees the replayed records: at each
 // health period boundary t_s, the newest IMU and lidar data before it. The

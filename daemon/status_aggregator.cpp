@@ -63,9 +63,13 @@ void StatusAggregator::drain_scan_reports(std::uint64_t until) {
       newest_reset_reason_ = r.reset_reason;
     }
     if (r.map_initialised) new_map_at_resets_ = r.resets;
+    if (r.registered) expected_error_max_m_ = std::max(expected_error_max_m_, r.expected_error_m);
     if (r.spin_rate_unmeasured) {
       consecutive_good_scans_ = 0;
       ++spin_rate_unmeasured_scans_in_period_;
+    } else if (weakly_constrained(r, health_.max_expected_error_m)) {
+      consecutive_good_scans_ = 0;
+      ++weakly_constrained_scans_in_period_;
     } else if (is_good(r)) {
       ++consecutive_good_scans_;
     } else {
@@ -97,6 +101,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   in.fuser_initialised = fuser_initialised;
   in.bad_scans_in_period = bad_scans_in_period_;
   in.spin_rate_unmeasured_scans_in_period = spin_rate_unmeasured_scans_in_period_;
+  in.weakly_constrained_scans_in_period = weakly_constrained_scans_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
   in.data_dropped = drops != previous_drops_for_health_;
   in.resets_in_period = resets_in_period_;
@@ -134,6 +139,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   previous_drops_for_health_ = drops;
   bad_scans_in_period_ = 0;
   spin_rate_unmeasured_scans_in_period_ = 0;
+  weakly_constrained_scans_in_period_ = 0;
   resets_in_period_ = 0;
 }
 
@@ -203,6 +209,9 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.scans_imu_bridged = load(c.scans_imu_bridged);
   out.scans_untrusted = load(c.scans_untrusted);
   out.scans_spin_rate_unmeasured = load(c.scans_spin_rate_unmeasured);
+  out.scans_weakly_constrained = load(c.scans_weakly_constrained);
+  out.expected_error_max_m = expected_error_max_m_;
+  expected_error_max_m_ = 0.0f;
 
   out.num_rings = static_cast<std::int16_t>(rings_.size());
   out.ring_name.resize(rings_.size());

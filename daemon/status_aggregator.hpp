@@ -90,6 +90,8 @@ class StatusAggregator {
   PeriodStats<kWindow> degeneracy_;
   int bad_scans_in_period_ = 0;
   int spin_rate_unmeasured_scans_in_period_ = 0;
+  int weakly_constrained_scans_in_period_ = 0;
+  float expected_error_max_m_ = 0.0f;  // of the registered scans since the last message
   int consecutive_good_scans_ = 0;
   bool any_scan_reported_ = false;
   int resets_in_period_ = 0;

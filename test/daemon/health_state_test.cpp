@@ -86,6 +86,22 @@ TEST(HealthState, AGyroClippedAboutTheSpinAxisDegradesWithThatReason) {
   EXPECT_EQ(next(S::Degraded, in), S::Tracking);
 }
 
+TEST(HealthState, AWeaklyConstrainedRegistrationDegradesWithThatReason) {
+  HealthInputs in = healthy();
+  in.weakly_constrained_scans_in_period = 1;
+  in.bad_scans_in_period = 1;  // the more specific reason wins
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_EQ(t.reason,
+            "registration weakly constrained: expected position error above daemon.health.max_expected_error_m");
+  in.bad_scans_in_period = 0;
+  in.consecutive_good_scans = 0;
+  EXPECT_EQ(next_health_state(S::Degraded, 1.0, in, {}).reason, t.reason);
+  in.weakly_constrained_scans_in_period = 0;
+  in.consecutive_good_scans = 5;
+  EXPECT_EQ(next(S::Degraded, in), S::Tracking);
+}
+
 TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 4;

@@ -289,6 +289,37 @@ TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted)
   EXPECT_EQ(status_.scans_spin_rate_unmeasured, 1);
 }
 
+TEST_F(StatusAggregatorTest, WeaklyConstrainedScansDegradeAndTheLargestExpectedErrorIsReported) {
+  const double limit_m = HealthConfig{}.max_expected_error_m;
+  const auto scan = [this](double expected_error_m) {
+    RegistrationRecord r = registered_scan(true);
+    r.expected_error_m = static_cast<float>(expected_error_m);
+    reports_.push(r);
+  };
+  scan(0.01);
+  evaluate_next_tick();
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(limit_m * 0.9);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(limit_m * 1.5);
+  scan(0.01);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: registration weakly constrained"), std::string::npos) << log_.str();
+  aggregator_.publish(0, 0, status_);
+  EXPECT_FLOAT_EQ(status_.expected_error_max_m, static_cast<float>(limit_m * 1.5));
+  aggregator_.publish(0, 0, status_);
+  EXPECT_EQ(status_.expected_error_max_m, 0.0f);  // per period
+  for (int i = 0; i < 5; ++i) scan(0.01);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.scans_weakly_constrained = 1;
+  aggregator_.publish(0, 0, status_);
+  EXPECT_EQ(status_.scans_weakly_constrained, 1);
+}
+
 TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
     report_map_scan(resets, TrackingLoss::DisagreesWithImu, map_initialised, good);
