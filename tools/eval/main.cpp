@@ -7,17 +7,23 @@
 #include <algorithm>
 #include <cstdio>
 #include <exception>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "tools/eval/bench_index.hpp"
 #include "tools/eval/box_plot.hpp"
+#include "tools/eval/drift.hpp"
 #include "tools/eval/imu_attitude.hpp"
+#include "tools/eval/integrity_report.hpp"
 #include "tools/eval/job_runner.hpp"
 #include "tools/eval/matrix_report.hpp"
 #include "tools/eval/run_score.hpp"
 #include "tools/eval/speed_report.hpp"
+#include "tools/eval/tum_file.hpp"
+#include "tools/eval/tumbled_job.hpp"
 
 namespace {
 
@@ -201,6 +207,50 @@ int run_imu(const ImuOptions& options) {
   return kExitSomeFailed;
 }
 
+struct IntegrityOptions {
+  std::string bench_dir;
+  std::string eval_dir;
+  std::string runs_glob = "*";
+  std::vector<std::string> kinds;
+  std::string model = "GVTW";
+  std::string deskew = "on";
+  std::vector<double> thresholds_m{0.03, 0.04, 0.05, 0.06};
+  std::size_t window = 10;
+};
+
+// A run of kind `long` ends where it started: its final error says little, its RPE over 10 m does.
+constexpr double kLongRunSegment_m = 10.0;
+
+int run_integrity(const IntegrityOptions& options) {
+  const std::vector<BenchRun> all = read_bench_index(options.bench_dir);
+  const std::vector<BenchRun> runs = select_runs(all, RunFilter{options.runs_glob, options.kinds});
+  if (runs.empty()) throw std::runtime_error("no run of " + options.bench_dir + " matches the selection");
+  const Variant variant{options.model, options.deskew == "on"};
+  std::vector<RunIntegrity> scored;
+  for (const BenchRun& run : runs) {
+    const JobPaths paths = job_paths(options.eval_dir, run.name, variant);
+    RunIntegrity result;
+    result.name = run.name;
+    if (!std::filesystem::exists(paths.trajectory) || !std::filesystem::exists(paths.scan_log)) {
+      std::fprintf(stderr, "tumble-eval integrity: %s: no %s trajectory or scan log in %s: counted as diverged\n",
+                   run.name.c_str(), variant.label().c_str(), options.eval_dir.c_str());
+      result.error_cm_per_m = std::numeric_limits<double>::infinity();
+      scored.push_back(result);
+      continue;
+    }
+    const PoseSeries truth = read_tum(run.dir / "ground_truth.tum");
+    const PoseSeries estimate = read_tum(paths.trajectory);
+    const bool long_run = run.kind == "long";
+    const DriftResult drift = evaluate_drift(truth, estimate, DriftOptions{long_run ? kLongRunSegment_m : 1.0});
+    result.error_cm_per_m = long_run ? drift.rpe_translation_cm_per_m : drift.translation_cm_per_m;
+    result.distance_m = drift.distance_m;
+    result.scans = score_scans(truth, estimate, read_scan_log(paths.scan_log), options.window);
+    scored.push_back(std::move(result));
+  }
+  std::fputs(integrity_markdown(scored, options.thresholds_m).c_str(), stdout);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -261,6 +311,32 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
 
+  IntegrityOptions integrity_options;
+  CLI::App* integrity = app.add_subcommand(
+      "integrity", "tumbled's expected error (scan log) as a detector of wrong poses, and the NEES of its published "
+                   "covariance, against ground truth, on a finished matrix");
+  integrity->add_option("bench_dir", integrity_options.bench_dir, "tumble-sim bench folder (with bench.csv)")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  integrity->add_option("eval_dir", integrity_options.eval_dir, "a tumble-eval matrix --out folder over that bench")
+      ->required()
+      ->check(CLI::ExistingDirectory);
+  integrity->add_option("--runs", integrity_options.runs_glob, "only runs whose name matches this shell pattern")
+      ->capture_default_str();
+  integrity->add_option("--kinds", integrity_options.kinds, "only these kinds of run")->delimiter(',');
+  integrity->add_option("--model", integrity_options.model, "the weight model's runs to score")
+      ->check(CLI::IsMember(kModels))
+      ->capture_default_str();
+  integrity->add_option("--deskew", integrity_options.deskew, "the de-skew setting's runs to score")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  integrity->add_option("--threshold-m", integrity_options.thresholds_m, "expected-error thresholds, one row each")
+      ->delimiter(',')
+      ->capture_default_str();
+  integrity->add_option("--window", integrity_options.window, "scans over which a slip is judged")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -271,6 +347,7 @@ int main(int argc, char** argv) {
     if (matrix->parsed()) return run_matrix(matrix_options, eval, argv[0]);
     if (score->parsed()) return run_score(score_options);
     if (imu->parsed()) return run_imu(imu_options);
+    if (integrity->parsed()) return run_integrity(integrity_options);
     return run_speed(speed_options, argv[0]);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "tumble-eval: %s\n", e.what());

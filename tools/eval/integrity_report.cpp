@@ -1,0 +1,196 @@
+#include "tools/eval/integrity_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+
+#include <Eigen/Cholesky>
+
+namespace tumble::eval {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// A scan's pose is the estimate's sample at the scan's time (the trajectory
+// file and the scan log both print the scan start).
+constexpr double kSameTime_s = 1e-4;
+
+std::optional<TimedPose> pose_at_time(const PoseSeries& series, double t_s) {
+  const auto it = std::lower_bound(series.begin(), series.end(), t_s - kSameTime_s,
+                                   [](const TimedPose& p, double t) { return p.t_s < t; });
+  if (it == series.end() || std::abs(it->t_s - t_s) > kSameTime_s) return std::nullopt;
+  return *it;
+}
+
+struct RegisteredScan {
+  double t_s;
+  Eigen::Isometry3d estimate;
+  Eigen::Isometry3d truth;
+  Eigen::Matrix3d covariance;
+  double expected_error_m;
+};
+
+// The increment a→b's position error, in W (the estimate's frame at a).
+Eigen::Vector3d increment_error_w(const RegisteredScan& a, const RegisteredScan& b) {
+  const Eigen::Vector3d estimated = (a.estimate.inverse() * b.estimate).translation();
+  const Eigen::Vector3d true_motion = (a.truth.inverse() * b.truth).translation();
+  return a.estimate.linear() * (estimated - true_motion);
+}
+
+double nees_per_dof(const Eigen::Vector3d& error, const Eigen::Matrix3d& covariance) {
+  if (!covariance.allFinite()) return kNaN;
+  const Eigen::LDLT<Eigen::Matrix3d> ldlt(covariance);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive() || ldlt.vectorD().minCoeff() <= 0.0) return kNaN;
+  return error.dot(ldlt.solve(error)) / 3.0;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return kNaN;
+  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), middle, values.end());
+  return *middle;
+}
+
+double mean(const std::vector<double>& values) {
+  if (values.empty()) return kNaN;
+  double sum = 0.0;
+  for (const double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
+
+bool flagged(const ScanIntegrity& scan, double threshold_m) { return !(scan.expected_error_m <= threshold_m); }
+
+std::string percent(std::size_t part, std::size_t whole) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.2f %%", whole > 0 ? 100.0 * static_cast<double>(part) / static_cast<double>(whole) : 0.0);
+  return text;
+}
+
+}  // namespace
+
+std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const PoseSeries& estimate, const ScanLog& log,
+                                       std::size_t window) {
+  const auto& t_s = log.column("t_s");
+  const auto& registered = log.column("registered");
+  const auto& iterations = log.column("iterations");
+  const auto& expected = log.column("expected_error_m");
+  const auto& xx = log.column("cov_txx");
+  const auto& yy = log.column("cov_tyy");
+  const auto& zz = log.column("cov_tzz");
+  const auto& xy = log.column("cov_txy");
+  const auto& xz = log.column("cov_txz");
+  const auto& yz = log.column("cov_tyz");
+  std::vector<RegisteredScan> history;  // the registered scans so far (none after an unregistered one)
+  std::vector<ScanIntegrity> out;
+  for (std::size_t i = 0; i < log.scans(); ++i) {
+    const std::optional<TimedPose> pose = pose_at_time(estimate, t_s[i]);
+    const bool inside = !ground_truth.empty() && t_s[i] >= ground_truth.front().t_s && t_s[i] <= ground_truth.back().t_s;
+    if (registered[i] == 0.0 || !pose || !inside) {
+      history.clear();
+      continue;
+    }
+    RegisteredScan scan{t_s[i], to_isometry(*pose), pose_at(ground_truth, t_s[i]), Eigen::Matrix3d::Zero(),
+                        expected[i]};
+    scan.covariance << xx[i], xy[i], xz[i], xy[i], yy[i], yz[i], xz[i], yz[i], zz[i];
+    const bool map_start = iterations[i] == 0.0;
+    if (!map_start && !history.empty()) {
+      const RegisteredScan& previous = history.back();
+      ScanIntegrity s;
+      s.expected_error_m = scan.expected_error_m;
+      const Eigen::Vector3d error = increment_error_w(previous, scan);
+      s.increment_error_m = error.norm();
+      s.window_error_m = history.size() >= window ? increment_error_w(history[history.size() - window], scan).norm() : kNaN;
+      s.nees_per_dof = nees_per_dof(error, previous.covariance + scan.covariance);
+      out.push_back(s);
+    }
+    if (map_start) history.clear();
+    history.push_back(scan);
+  }
+  return out;
+}
+
+std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std::vector<double>& thresholds_m,
+                               const DetectorLimits& limits) {
+  std::size_t good_runs = 0, bad_runs = 0;
+  for (const RunIntegrity& run : runs) {
+    good_runs += run.error_cm_per_m < limits.good_run_cm_per_m ? 1 : 0;
+    bad_runs += !(run.error_cm_per_m <= limits.bad_run_cm_per_m) ? 1 : 0;
+  }
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%zu runs: %zu under %.2g cm/m, %zu over %.2g cm/m (or diverged). A scan is flagged when its "
+                "expected error is above the threshold; it slipped when its pose's error over the last scans' window "
+                "is over %.2g m.\n\n",
+                runs.size(), good_runs, limits.good_run_cm_per_m, bad_runs, limits.bad_run_cm_per_m, limits.slipped_m);
+  std::string md = text;
+  std::snprintf(text, sizeof text,
+                "| threshold | scans flagged, runs under %.2g cm/m | of those runs, over %.0f %% flagged | runs over %.2g "
+                "cm/m flagged | slipped scans flagged | other scans flagged |\n|---|---|---|---|---|---|\n",
+                limits.good_run_cm_per_m, limits.good_run_flag_share * 100.0, limits.bad_run_cm_per_m);
+  md += text;
+  std::vector<std::string> missed_at_first;
+  for (std::size_t k = 0; k < thresholds_m.size(); ++k) {
+    const double threshold = thresholds_m[k];
+    std::size_t good_flagged = 0, good_scans = 0, noisy_good_runs = 0, bad_flagged = 0;
+    std::size_t slipped = 0, slipped_flagged = 0, others = 0, others_flagged = 0;
+    for (const RunIntegrity& run : runs) {
+      std::size_t run_flagged = 0;
+      for (const ScanIntegrity& scan : run.scans) {
+        const bool flag = flagged(scan, threshold);
+        run_flagged += flag ? 1 : 0;
+        if (std::isnan(scan.window_error_m)) continue;
+        if (scan.window_error_m > limits.slipped_m) {
+          ++slipped;
+          slipped_flagged += flag ? 1 : 0;
+        } else {
+          ++others;
+          others_flagged += flag ? 1 : 0;
+        }
+      }
+      if (run.error_cm_per_m < limits.good_run_cm_per_m) {
+        good_flagged += run_flagged;
+        good_scans += run.scans.size();
+        if (static_cast<double>(run_flagged) > limits.good_run_flag_share * static_cast<double>(run.scans.size()))
+          ++noisy_good_runs;
+      } else if (!(run.error_cm_per_m <= limits.bad_run_cm_per_m)) {
+        if (run_flagged > 0) {
+          ++bad_flagged;
+        } else if (k == 0) {
+          std::snprintf(text, sizeof text, "%s (%.2f cm/m over %.2f m)", run.name.c_str(), run.error_cm_per_m,
+                        run.distance_m);
+          missed_at_first.push_back(text);
+        }
+      }
+    }
+    std::snprintf(text, sizeof text, "| %.3g m | %s (%zu of %zu) | %zu of %zu | %zu of %zu | %s | %s |\n", threshold,
+                  percent(good_flagged, good_scans).c_str(), good_flagged, good_scans, noisy_good_runs, good_runs,
+                  bad_flagged, bad_runs, percent(slipped_flagged, slipped).c_str(),
+                  percent(others_flagged, others).c_str());
+    md += text;
+  }
+  if (!missed_at_first.empty() && !thresholds_m.empty()) {
+    std::snprintf(text, sizeof text, "\nRuns over %.3g cm/m never flagged at %.3g m:", limits.bad_run_cm_per_m,
+                  thresholds_m.front());
+    md += text;
+    for (std::size_t i = 0; i < missed_at_first.size(); ++i) md += (i == 0 ? " " : "; ") + missed_at_first[i];
+    md += ".\n";
+  }
+  md += "\nNEES per degree of freedom of the published position covariance, against each one-scan increment's "
+        "error (consistent: mean near 1):\n\n| runs | scans | mean | median |\n|---|---|---|---|\n";
+  for (const double limit : {limits.good_run_cm_per_m, limits.bad_run_cm_per_m}) {
+    std::vector<double> nees;
+    for (const RunIntegrity& run : runs) {
+      if (!(run.error_cm_per_m < limit)) continue;
+      for (const ScanIntegrity& scan : run.scans)
+        if (std::isfinite(scan.nees_per_dof)) nees.push_back(scan.nees_per_dof);
+    }
+    std::snprintf(text, sizeof text, "| under %.2g cm/m | %zu | %.2f | %.2f |\n", limit, nees.size(), mean(nees),
+                  median(nees));
+    md += text;
+  }
+  return md;
+}
+
+}  // namespace tumble::eval
