@@ -6,10 +6,11 @@
 //
 // Calibrated on bench2 (94 runs of `tumble-sim bench --realistic` and its 12
 // people runs, GVTW + de-skew, 16 216 scans) against the true error of each
-// scan's pose increment (with both poses' covariances): κ = 7 and a 3 mm
-// floor give a mean NEES (per degree of freedom) of 0.70 over the runs under
-// 0.5 cm/m and 1.10 over those under 2 cm/m (bench1: 0.92, 0.98). The errors
-// are heavy-tailed: the median NEES is 0.1-0.2.
+// scan's pose increment (with both poses' covariances; `tumble-eval
+// integrity`): κ = 7 and a 3 mm floor give a mean NEES (per degree of
+// freedom) of 0.86 over the runs under 0.5 cm/m and 1.10 over those under
+// 2 cm/m (bench1: 0.91, 0.97). The errors are heavy-tailed: the median NEES
+// is 0.1-0.3.
 // The largest eigenvalue follows the real error: increments whose expected
 // error is 1 cm err by 0.8 cm at the median, 4 cm by 4.6 cm, 8 cm by 31 cm.
 #pragma once
