@@ -174,11 +174,10 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     timing.icp_matching_s = icp.matching_s;
     timing.icp_solve_s = icp.solve_s;
     result.correction_w = icp.T_wl.translation() - predicted.translation();
-    result.translation_from_prediction_m = result.correction_w.norm();
     result.rotation_from_prediction_rad =
         Eigen::AngleAxisd(predicted.rotation().transpose() * icp.T_wl.rotation()).angle();
     const auto beyond = [](double value, double limit) { return limit > 0 && value > limit; };
-    if (result.registered && (beyond(result.translation_from_prediction_m, conditions.max_translation_m) ||
+    if (result.registered && (beyond(result.correction_w.norm(), conditions.max_translation_m) ||
                               beyond(result.rotation_from_prediction_rad, conditions.max_rotation_rad))) {
       result.registered = false;
       result.rejected = true;

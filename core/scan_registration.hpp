@@ -103,9 +103,9 @@ struct ScanResult {
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used
-  double translation_from_prediction_m = 0;  // ICP's pose vs the trajectory's, at the scan start
+  // ICP's pose vs the trajectory's, at the scan start: position (W axes) and rotation angle.
+  Eigen::Vector3d correction_w = Eigen::Vector3d::Zero();
   double rotation_from_prediction_rad = 0;
-  Eigen::Vector3d correction_w = Eigen::Vector3d::Zero();  // ICP's position minus the trajectory's, W axes
   bool converged = false;
   int iterations = 0;
   double inlier_ratio = 0;

@@ -363,7 +363,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.position_sigma_m = result.position_sigma_m;
   out.inlier_ratio = static_cast<float>(result.inlier_ratio);
   out.matched_ratio = static_cast<float>(result.matched_ratio);
-  out.correction_m = static_cast<float>(result.translation_from_prediction_m);
+  out.correction_m = static_cast<float>(result.correction_w.norm());
   out.correction_deg = static_cast<float>(result.rotation_from_prediction_rad * kRadToDeg);
   out.residual_m = static_cast<float>(result.residual_rms_m);
   out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);

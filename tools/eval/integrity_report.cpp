@@ -8,6 +8,8 @@
 
 #include <Eigen/Cholesky>
 
+#include "tools/eval/box_stats.hpp"
+
 namespace tumble::eval {
 
 namespace {
@@ -48,9 +50,8 @@ double nees_per_dof(const Eigen::Vector3d& error, const Eigen::Matrix3d& covaria
 
 double median(std::vector<double> values) {
   if (values.empty()) return kNaN;
-  const auto middle = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), middle, values.end());
-  return *middle;
+  std::sort(values.begin(), values.end());
+  return quantile_sorted(values, 0.5);
 }
 
 double mean(const std::vector<double>& values) {
