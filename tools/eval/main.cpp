@@ -32,14 +32,44 @@ using namespace tumble::eval;
 constexpr int kExitSomeFailed = 1;
 constexpr int kExitUsage = 2;
 
+// --runs and --kinds, as every subcommand over a bench takes them.
+void add_selection_options(CLI::App& command, RunFilter& selection) {
+  command.add_option("--runs", selection.name_glob, "only runs whose name matches this shell pattern")
+      ->capture_default_str();
+  command
+      .add_option("--kinds", selection.kinds,
+                  "only these kinds of run, as bench.csv names them (rail, turntable, rolling_cage, long, "
+                  "people; cage = rolling_cage)")
+      ->delimiter(',');
+}
+
+std::string join(const std::vector<std::string>& items) {
+  std::string text;
+  for (const std::string& item : items) text += (text.empty() ? "" : ",") + item;
+  return text;
+}
+
+std::string selection_text(const RunFilter& selection) {
+  return "runs '" + selection.name_glob + "', kinds " + (selection.kinds.empty() ? "all" : join(selection.kinds));
+}
+
+// The runs of bench_dir that `selection` picks; none is an error that lists the bench's kinds.
+std::vector<BenchRun> selected_runs(const std::string& bench_dir, const RunFilter& selection) {
+  const std::vector<BenchRun> all = read_bench_index(bench_dir);
+  std::vector<BenchRun> runs = select_runs(all, selection);
+  if (runs.empty())
+    throw std::runtime_error("no run of " + bench_dir + " matches " + selection_text(selection) +
+                             " (its kinds: " + join(kinds_of(all)) + ")");
+  return runs;
+}
+
 struct CommonOptions {
   std::string bench_dir;
   std::string out_dir;
   std::size_t jobs = 2;
   std::string tumbled;
   std::string config;
-  std::string runs_glob = "*";
-  std::vector<std::string> kinds;
+  RunFilter selection;
   std::vector<std::string> models;
   std::string deskew = "both";
   double timeout_s = 600.0;
@@ -54,12 +84,7 @@ void add_common_options(CLI::App& command, CommonOptions& options) {
   command.add_option("--tumbled", options.tumbled,
                      "tumbled binary (default: next to tumble-eval or in the build tree)");
   command.add_option("--config", options.config, "tumbled --config FILE for every job");
-  command.add_option("--runs", options.runs_glob, "only runs whose name matches this shell pattern")
-      ->capture_default_str();
-  command
-      .add_option("--kinds", options.kinds,
-                  "only these kinds of run (rail, turntable, rolling_cage; cage = rolling_cage)")
-      ->delimiter(',');
+  add_selection_options(command, options.selection);
   command.add_option("--models", options.models, "weight models (NM,TW,VTW,GVTW,SAW)")
       ->delimiter(',')
       ->check(CLI::IsMember(kModels))
@@ -83,15 +108,8 @@ std::vector<Variant> variants_of(const CommonOptions& options) {
   return variants;
 }
 
-std::string join(const std::vector<std::string>& items) {
-  std::string text;
-  for (const std::string& item : items) text += (text.empty() ? "" : ",") + item;
-  return text;
-}
-
 std::string selection_text(const CommonOptions& options) {
-  return "runs '" + options.runs_glob + "', kinds " + (options.kinds.empty() ? "all" : join(options.kinds)) +
-         ", models " + join(options.models) + ", de-skew " + options.deskew;
+  return selection_text(options.selection) + ", models " + join(options.models) + ", de-skew " + options.deskew;
 }
 
 RunnerOptions runner_options(const CommonOptions& options, const char* argv0) {
@@ -110,15 +128,6 @@ RunnerOptions runner_options(const CommonOptions& options, const char* argv0) {
   return runner;
 }
 
-std::vector<BenchRun> selected_runs(const CommonOptions& options) {
-  const std::vector<BenchRun> all = read_bench_index(options.bench_dir);
-  std::vector<BenchRun> runs = select_runs(all, RunFilter{options.runs_glob, options.kinds});
-  if (runs.empty())
-    throw std::runtime_error("no run of " + options.bench_dir + " matches " + selection_text(options) +
-                             " (its kinds: " + join(kinds_of(all)) + ")");
-  return runs;
-}
-
 void write_text(const std::filesystem::path& path, const std::string& text) {
   std::ofstream out(path);
   out << text;
@@ -126,7 +135,7 @@ void write_text(const std::filesystem::path& path, const std::string& text) {
 }
 
 int run_matrix(const CommonOptions& options, const EvalOptions& eval, const char* argv0) {
-  const std::vector<BenchRun> runs = selected_runs(options);
+  const std::vector<BenchRun> runs = selected_runs(options.bench_dir, options.selection);
   RunnerOptions runner = runner_options(options, argv0);
   runner.eval = eval;
   std::filesystem::create_directories(runner.out_dir);
@@ -153,7 +162,7 @@ int run_matrix(const CommonOptions& options, const EvalOptions& eval, const char
 }
 
 int run_speed(const CommonOptions& options, const char* argv0) {
-  const std::vector<BenchRun> runs = selected_runs(options);
+  const std::vector<BenchRun> runs = selected_runs(options.bench_dir, options.selection);
   const RunnerOptions runner = runner_options(options, argv0);
   std::filesystem::create_directories(runner.out_dir);
   const std::vector<Job> jobs = plan_jobs(runs, variants_of(options));
@@ -210,8 +219,7 @@ int run_imu(const ImuOptions& options) {
 struct IntegrityOptions {
   std::string bench_dir;
   std::string eval_dir;
-  std::string runs_glob = "*";
-  std::vector<std::string> kinds;
+  RunFilter selection;
   std::string model = "GVTW";
   std::string deskew = "on";
   std::vector<double> thresholds_m{0.03, 0.04, 0.05, 0.06};
@@ -222,9 +230,7 @@ struct IntegrityOptions {
 constexpr double kLongRunSegment_m = 10.0;
 
 int run_integrity(const IntegrityOptions& options) {
-  const std::vector<BenchRun> all = read_bench_index(options.bench_dir);
-  const std::vector<BenchRun> runs = select_runs(all, RunFilter{options.runs_glob, options.kinds});
-  if (runs.empty()) throw std::runtime_error("no run of " + options.bench_dir + " matches the selection");
+  const std::vector<BenchRun> runs = selected_runs(options.bench_dir, options.selection);
   const Variant variant{options.model, options.deskew == "on"};
   std::vector<RunIntegrity> scored;
   for (const BenchRun& run : runs) {
@@ -321,9 +327,7 @@ int main(int argc, char** argv) {
   integrity->add_option("eval_dir", integrity_options.eval_dir, "a tumble-eval matrix --out folder over that bench")
       ->required()
       ->check(CLI::ExistingDirectory);
-  integrity->add_option("--runs", integrity_options.runs_glob, "only runs whose name matches this shell pattern")
-      ->capture_default_str();
-  integrity->add_option("--kinds", integrity_options.kinds, "only these kinds of run")->delimiter(',');
+  add_selection_options(*integrity, integrity_options.selection);
   integrity->add_option("--model", integrity_options.model, "the weight model's runs to score")
       ->check(CLI::IsMember(kModels))
       ->capture_default_str();
