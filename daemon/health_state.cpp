@@ -27,6 +27,20 @@ constexpr std::string_view kSpinRateUnmeasured =
 constexpr std::string_view kWeaklyConstrained =
     "registration weakly constrained: expected position error above daemon.health.max_expected_error_m";
 
+std::string_view reason_of(ScanVerdict verdict) {
+  switch (verdict) {
+    case ScanVerdict::Good:
+      break;
+    case ScanVerdict::PoorRegistration:
+      return "poor scan registration";
+    case ScanVerdict::WeaklyConstrained:
+      return kWeaklyConstrained;
+    case ScanVerdict::SpinRateUnmeasured:
+      return kSpinRateUnmeasured;
+  }
+  return {};
+}
+
 std::string_view stale_sensor(const HealthInputs& in) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
   if (!in.imu_fresh) return "no IMU data";
@@ -57,9 +71,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       break;
     case S::Tracking:
       if (!fresh) return {S::Degraded, stale};
-      if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
-      if (in.weakly_constrained_scans_in_period > 0) return {S::Degraded, kWeaklyConstrained};
-      if (in.bad_scans_in_period > 0) return {S::Degraded, "poor scan registration"};
+      if (in.worst_scan_in_period != ScanVerdict::Good) return {S::Degraded, reason_of(in.worst_scan_in_period)};
       if (in.data_dropped) return {S::Degraded, "data dropped"};
       break;
     case S::Degraded:
@@ -67,8 +79,9 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
         return {S::Tracking, "registration good again"};
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
-      if (in.spin_rate_unmeasured_scans_in_period > 0) return {S::Degraded, kSpinRateUnmeasured};
-      if (in.weakly_constrained_scans_in_period > 0) return {S::Degraded, kWeaklyConstrained};
+      // A specific reason is restated; a poor registration is what degraded means.
+      if (in.worst_scan_in_period > ScanVerdict::PoorRegistration)
+        return {S::Degraded, reason_of(in.worst_scan_in_period)};
       break;
     case S::Lost:
       if (!fresh) break;

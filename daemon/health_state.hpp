@@ -33,6 +33,15 @@
 
 namespace tumble::daemon {
 
+// Why a scan is not good, or that it is. A period is judged by the most
+// specific reason among its scans: the larger value.
+enum class ScanVerdict : std::int8_t {
+  Good = 0,
+  PoorRegistration = 1,    // not registered, not used, not converged, too few matches or degenerate
+  WeaklyConstrained = 2,   // expected error above daemon.health.max_expected_error_m
+  SpinRateUnmeasured = 3,  // gyro clipped about the lidar's spin axis
+};
+
 // Values equal tumble::status_t::STATE_*.
 enum class HealthState : std::int8_t { WaitingForSensors = 0, Initialising = 1, Tracking = 2, Degraded = 3, Lost = 4 };
 
@@ -43,9 +52,7 @@ struct HealthInputs {
   bool lidar_fresh = false;
   double lidar_silent_s = 0.0;  // since the newest lidar data
   bool fuser_initialised = false;
-  int bad_scans_in_period = 0;
-  int spin_rate_unmeasured_scans_in_period = 0;  // gyro clipped about the lidar's spin axis (not good scans either)
-  int weakly_constrained_scans_in_period = 0;    // expected error above the limit (not good scans either)
+  ScanVerdict worst_scan_in_period = ScanVerdict::Good;
   int consecutive_good_scans = 0;  // ending with the newest scan
   bool data_dropped = false;
   int resets_in_period = 0;          // local maps given up

@@ -44,9 +44,12 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
 
 // A registration not used (untrusted: far from the IMU-propagated pose) may
 // have converged well: it is still no evidence that tracking holds.
-bool StatusAggregator::is_good(const RegistrationRecord& r) const {
-  return r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
-         r.degeneracy >= health_.min_degeneracy;
+ScanVerdict StatusAggregator::verdict(const RegistrationRecord& r) const {
+  if (r.spin_rate_unmeasured) return ScanVerdict::SpinRateUnmeasured;
+  if (weakly_constrained(r, health_.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
+  const bool good = r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
+                    r.degeneracy >= health_.min_degeneracy;
+  return good ? ScanVerdict::Good : ScanVerdict::PoorRegistration;
 }
 
 void StatusAggregator::drain_scan_reports(std::uint64_t until) {
@@ -64,18 +67,9 @@ void StatusAggregator::drain_scan_reports(std::uint64_t until) {
     }
     if (r.map_initialised) new_map_at_resets_ = r.resets;
     if (r.registered) expected_error_max_m_ = std::max(expected_error_max_m_, r.expected_error_m);
-    if (r.spin_rate_unmeasured) {
-      consecutive_good_scans_ = 0;
-      ++spin_rate_unmeasured_scans_in_period_;
-    } else if (weakly_constrained(r, health_.max_expected_error_m)) {
-      consecutive_good_scans_ = 0;
-      ++weakly_constrained_scans_in_period_;
-    } else if (is_good(r)) {
-      ++consecutive_good_scans_;
-    } else {
-      consecutive_good_scans_ = 0;
-      ++bad_scans_in_period_;
-    }
+    const ScanVerdict v = verdict(r);
+    consecutive_good_scans_ = v == ScanVerdict::Good ? consecutive_good_scans_ + 1 : 0;
+    worst_scan_in_period_ = std::max(worst_scan_in_period_, v);
   })) {
     ++reports_consumed_;
   }
@@ -99,9 +93,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   // Good scans before a silence say nothing of the pose after it.
   if (!in.lidar_fresh) consecutive_good_scans_ = 0;
   in.fuser_initialised = fuser_initialised;
-  in.bad_scans_in_period = bad_scans_in_period_;
-  in.spin_rate_unmeasured_scans_in_period = spin_rate_unmeasured_scans_in_period_;
-  in.weakly_constrained_scans_in_period = weakly_constrained_scans_in_period_;
+  in.worst_scan_in_period = worst_scan_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
   in.data_dropped = drops != previous_drops_for_health_;
   in.resets_in_period = resets_in_period_;
@@ -137,9 +129,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
     state_reason_ = next.reason;
   }
   previous_drops_for_health_ = drops;
-  bad_scans_in_period_ = 0;
-  spin_rate_unmeasured_scans_in_period_ = 0;
-  weakly_constrained_scans_in_period_ = 0;
+  worst_scan_in_period_ = ScanVerdict::Good;
   resets_in_period_ = 0;
 }
 

@@ -61,7 +61,7 @@ class StatusAggregator {
  private:
   static constexpr std::size_t kWindow = 64;  // scans per period kept for medians (10 Hz lidar: 10)
 
-  bool is_good(const RegistrationRecord& r) const;
+  ScanVerdict verdict(const RegistrationRecord& r) const;
   void drain_scan_reports(std::uint64_t until);
   std::uint64_t sensor_drops() const;  // lost sensor data: dropped scans and sensor-ring drops  // report count to reach (scan_reports_ pushes)
   // *_silent_s: since the sensor's newest data (infinity before any).
@@ -88,9 +88,7 @@ class StatusAggregator {
   PeriodStats<kWindow> iterations_;
   PeriodStats<kWindow> inlier_ratio_;
   PeriodStats<kWindow> degeneracy_;
-  int bad_scans_in_period_ = 0;
-  int spin_rate_unmeasured_scans_in_period_ = 0;
-  int weakly_constrained_scans_in_period_ = 0;
+  ScanVerdict worst_scan_in_period_ = ScanVerdict::Good;
   float expected_error_max_m_ = 0.0f;  // of the registered scans since the last message
   int consecutive_good_scans_ = 0;
   bool any_scan_reported_ = false;

@@ -62,8 +62,10 @@ TEST(HealthState, TrackingDegradesOnStaleSensorsBadScansOrDrops) {
   EXPECT_EQ(t.state, S::Degraded);
   EXPECT_EQ(t.reason, "no IMU data");
   in = healthy();
-  in.bad_scans_in_period = 1;
-  EXPECT_EQ(next(S::Tracking, in), S::Degraded);
+  in.worst_scan_in_period = ScanVerdict::PoorRegistration;
+  const HealthTransition poor = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(poor.state, S::Degraded);
+  EXPECT_EQ(poor.reason, "poor scan registration");
   in = healthy();
   in.data_dropped = true;
   EXPECT_EQ(next(S::Tracking, in), S::Degraded);
@@ -71,33 +73,29 @@ TEST(HealthState, TrackingDegradesOnStaleSensorsBadScansOrDrops) {
 
 TEST(HealthState, AGyroClippedAboutTheSpinAxisDegradesWithThatReason) {
   HealthInputs in = healthy();
-  in.spin_rate_unmeasured_scans_in_period = 1;
-  in.bad_scans_in_period = 1;  // the more specific reason wins
+  in.worst_scan_in_period = ScanVerdict::SpinRateUnmeasured;
   const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
   EXPECT_EQ(t.state, S::Degraded);
   EXPECT_EQ(t.reason, "gyro clipped about the lidar's spin axis: that rotation is the registration's alone");
-  in.bad_scans_in_period = 0;
   in.consecutive_good_scans = 0;
   HealthTransition still = next_health_state(S::Degraded, 1.0, in, {});
   EXPECT_EQ(still.state, S::Degraded);
   EXPECT_EQ(still.reason, t.reason);
-  in.spin_rate_unmeasured_scans_in_period = 0;
+  in.worst_scan_in_period = ScanVerdict::Good;
   in.consecutive_good_scans = 5;
   EXPECT_EQ(next(S::Degraded, in), S::Tracking);
 }
 
 TEST(HealthState, AWeaklyConstrainedRegistrationDegradesWithThatReason) {
   HealthInputs in = healthy();
-  in.weakly_constrained_scans_in_period = 1;
-  in.bad_scans_in_period = 1;  // the more specific reason wins
+  in.worst_scan_in_period = ScanVerdict::WeaklyConstrained;
   const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
   EXPECT_EQ(t.state, S::Degraded);
   EXPECT_EQ(t.reason,
             "registration weakly constrained: expected position error above daemon.health.max_expected_error_m");
-  in.bad_scans_in_period = 0;
   in.consecutive_good_scans = 0;
   EXPECT_EQ(next_health_state(S::Degraded, 1.0, in, {}).reason, t.reason);
-  in.weakly_constrained_scans_in_period = 0;
+  in.worst_scan_in_period = ScanVerdict::Good;
   in.consecutive_good_scans = 5;
   EXPECT_EQ(next(S::Degraded, in), S::Tracking);
 }

@@ -304,6 +304,7 @@ TEST_F(StatusAggregatorTest, WeaklyConstrainedScansDegradeAndTheLargestExpectedE
   evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
   scan(limit_m * 1.5);
+  reports_.push(registered_scan(false));  // a poor registration after it in the period: the more specific reason wins
   scan(0.01);
   evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
