@@ -86,6 +86,7 @@ std::uint64_t StatusAggregator::sensor_drops() const {
 void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s,
                                        bool fuser_initialised) {
   const std::uint64_t drops = sensor_drops();
+  if (input_ended_) imu_silent_s = lidar_silent_s = 0.0;
   HealthInputs in;
   in.imu_fresh = imu_silent_s <= health_.sensor_timeout_s;
   in.lidar_fresh = lidar_silent_s <= health_.sensor_timeout_s;
@@ -103,9 +104,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
                             health_.lidar_silent_to_lost_s};
-  const HealthTransition next =
-      input_ended_ ? HealthTransition{state_, {}}
-                   : next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
+  const HealthTransition next = next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
   if (next.state != state_) {
     const bool worse = next.state == HealthState::Degraded || next.state == HealthState::Lost;
     if (on_sensor_time_) {
@@ -155,6 +154,11 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
   // initialised (its own flag changes at a moment no replay can reproduce).
   evaluate_health(now_ns, sensor_silent_s(tick.newest_imu_s), sensor_silent_s(tick.newest_lidar_s),
                   any_scan_reported_);
+}
+
+void StatusAggregator::judge_final_scans(std::int64_t now_ns) {
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
+  evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed));
 }
 
 void StatusAggregator::publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out) {

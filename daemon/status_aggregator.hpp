@@ -51,8 +51,13 @@ class StatusAggregator {
   void publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out);
 
   // The input ended (a replay's files): the sensors falling silent is then
-  // no fault, so later ticks keep the state (and log no change).
+  // no fault, so later evaluations count them as fresh. They still judge the
+  // scans registered since: a bad last scan is not left as tracking.
   void input_ended() { input_ended_ = true; }
+  // After the input ended and the pipeline drained: the health machine once
+  // more, over the scans it registered after the last evaluation (at now_ns:
+  // the data time in a sensor-time replay, else the monotonic clock).
+  void judge_final_scans(std::int64_t now_ns);
 
   HealthState state() const { return state_; }
   // One line for systemd's STATUS=, from the last tick.

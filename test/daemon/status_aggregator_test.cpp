@@ -220,6 +220,25 @@ TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
   EXPECT_EQ(log_lines(), lines) << log_.str();
 }
 
+TEST_F(StatusAggregatorTest, ScansRegisteredAfterTheInputEndedAreStillJudged) {
+  counters_.fuser_initialised = true;
+  sensors_alive(kSecond);
+  report_scan(true, 1.0f);
+  aggregator_.tick(kSecond, 0, status_);
+  aggregator_.tick(kSecond, 0, status_);
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  aggregator_.input_ended();
+  aggregator_.tick(2 * kSecond, 0, status_);  // the sensors silent: the end, no fault
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  // The last scan, registered while the pipeline drained, was weakly constrained.
+  RegistrationRecord last = registered_scan(true);
+  last.expected_error_m = static_cast<float>(2 * HealthConfig{}.max_expected_error_m);
+  reports_.push(last);
+  aggregator_.judge_final_scans(3 * kSecond);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: registration weakly constrained"), std::string::npos) << log_.str();
+}
+
 TEST_F(StatusAggregatorTest, OutputRingDropsDoNotDegradeHealth) {
   counters_.fuser_initialised = true;
   sensors_alive(kSecond);
