@@ -128,8 +128,9 @@ std::size_t Icp::neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int it
   count = map.knn(p_w, search_radius, found);
   ++scratch.searches;
   for (std::size_t j = 0; j < count; ++j) {
-    const MapPoint& q = map.point(found[j].index);
-    kept[j] = KeptNeighbour{map.position(found[j].index), q.normal_w, q.variance_m2, q.normal_valid};
+    const std::uint32_t index = found[j].index;
+    kept[j] = KeptNeighbour{map.position(index), Eigen::Vector3d::Zero(), map.point(index).variance_m2, index,
+                            false, false};
     ranked[j] = RankedNeighbour{found[j].distance_sq, &kept[j]};
   }
   kept_count_[i] = static_cast<std::uint8_t>(count);
@@ -154,7 +155,13 @@ std::size_t Icp::match_point(std::size_t i, const PointCloud& reading, const Loc
       check_normal ? Eigen::Vector3d(context.R * reading.normals[i]) : Eigen::Vector3d::Zero();
   std::size_t count = 0;
   for (std::size_t j = 0; j < found; ++j) {
-    const KeptNeighbour& q = *scratch.ranked[j].neighbour;
+    KeptNeighbour& q = *scratch.ranked[j].neighbour;
+    if (!q.normal_read) {
+      const MapPoint& fitted = map.fitted_point(q.map_index, scratch.fit_neighbours, scratch.own_fit);
+      q.normal_w = fitted.normal_w.cast<double>();
+      q.normal_valid = fitted.normal_valid;
+      q.normal_read = true;
+    }
     if (!q.normal_valid) continue;
     if (check_normal && std::abs(read_normal_w.dot(q.normal_w)) < context.min_normal_cos) continue;
     double w;

@@ -143,15 +143,19 @@ class Icp {
   };
   // What matching needs of a map point, copied at search time so that the
   // iterations that reuse a search read it in order instead of from the map.
+  // The normal is read from the map only once the point is a match (most
+  // kept neighbours never are, and the map fits a normal on its first read).
   struct KeptNeighbour {
     Eigen::Vector3d p_w;
     Eigen::Vector3d normal_w;
     double variance;  // σn² + σs²
+    std::uint32_t map_index;
+    bool normal_read;
     bool normal_valid;
   };
   struct RankedNeighbour {
     double distance_sq;
-    const KeptNeighbour* neighbour;
+    KeptNeighbour* neighbour;
   };
   // The neighbours reading point i kept from its last search (at the pose of
   // iteration searched_at_[i]): kept_count_[i] of them from kept_[i·capacity],
@@ -164,6 +168,8 @@ class Icp {
   struct WorkerScratch {
     std::vector<Neighbour> neighbours;    // one search's results
     std::vector<RankedNeighbour> ranked;  // the current point's neighbours, nearest first
+    std::vector<Neighbour> fit_neighbours;  // a map normal's neighbourhood (LocalMap::fitted_point)
+    MapPoint own_fit;                       // LocalMap::fitted_point's, when another worker fits the point
     std::size_t searches = 0;
   };
   // What one iteration's data association needs of the current estimate.

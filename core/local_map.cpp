@@ -1,6 +1,7 @@
 #include "core/local_map.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -11,8 +12,7 @@ LocalMap::LocalMap(const LocalMapParams& params, ParallelRunner& runner)
     : params_(params),
       runner_(&runner),
       cap_(static_cast<std::uint32_t>(params.max_points_per_voxel)),
-      inv_voxel_(1.0 / params.voxel_size_m),
-      neighbours_(runner.workers()) {
+      inv_voxel_(1.0 / params.voxel_size_m) {
   if (!(params.voxel_size_m > 0)) throw std::invalid_argument("map voxel_size_m must be > 0");
   if (params.max_points_per_voxel < 1 || params.max_points_per_voxel > 4096)
     throw std::invalid_argument("map max_points_per_voxel must be in [1, 4096], got " +
@@ -20,8 +20,6 @@ LocalMap::LocalMap(const LocalMapParams& params, ParallelRunner& runner)
   if (!(params.radius_m > 0)) throw std::invalid_argument("map radius_m must be > 0");
   if (params.min_point_distance_m < 0) throw std::invalid_argument("map min_point_distance_m must be >= 0");
   if (params.normals.k < 3) throw std::invalid_argument("map normals.k must be >= 3");
-  for (std::vector<Neighbour>& buffer : neighbours_)
-    buffer.reserve(2 * static_cast<std::size_t>(std::max(params.normals.k, params.normals.line_retry_k)));
 }
 
 std::uint32_t LocalMap::new_chunk() {
@@ -104,7 +102,7 @@ std::uint32_t LocalMap::slot_for(const CellKey& key) {
 
 MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d& T_wl) {
   MapInsertStats stats;
-  new_points_.clear();
+  const Eigen::Vector3f sensor_w = T_wl.translation().cast<float>();
   const std::uint32_t line_base = (insert_count_++ & 0xFFFFFFu) << 8;
   for (std::size_t i = 0; i < cloud.size(); ++i) {
     if (!(cloud.sigma_s_m[i] <= params_.max_sigma_s_m)) {  // NaN and inf count as too uncertain
@@ -137,31 +135,49 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
     mp = MapPoint{};
     mp.variance_m2 = cloud.sigma_n_m[i] * cloud.sigma_n_m[i] + cloud.sigma_s_m[i] * cloud.sigma_s_m[i];
     mp.line_id = line_base | cloud.rings[i];
+    mp.sensor_w = sensor_w;
     last.positions[j] = p_w;
-    new_points_.push_back(voxel.last_chunk * kChunkPoints + j);
     ++stats.inserted;
   }
   point_count_ += stats.inserted;
 
-  // Each fit reads positions and scan lines only, and writes its own point's
-  // normal fields: the points can be fitted in any order, on any thread.
-  const Eigen::Vector3d sensor_w = T_wl.translation();
-  runner_->run(new_points_.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
-    for (std::size_t n = begin; n < end; ++n) {
-      const std::uint32_t index = new_points_[n];
-      MapPoint& mp = chunk(index / kChunkPoints).points[index % kChunkPoints];
-      const PlaneFit fit = NormalEstimator::fit_neighbourhood(
-          position(index), mp.line_id, sensor_w, params_.normals, neighbours_[worker],
-          [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
-            return knn(q, radius, out, k, KnnOrder::kAny);
-          },
-          [&](std::uint32_t i) -> const Eigen::Vector3d& { return position(i); },
-          [&](std::uint32_t i) { return point(i).line_id; });
-      mp.normal_w = fit.normal;
-      mp.normal_valid = fit.valid;
-    }
-  });
   return stats;
+}
+
+PlaneFit LocalMap::fit_normal(std::uint32_t index, const MapPoint& point, std::vector<Neighbour>& neighbours) const {
+  return NormalEstimator::fit_neighbourhood(
+      position(index), point.line_id, point.sensor_w.cast<double>(), params_.normals, neighbours,
+      [&](const Eigen::Vector3d& q, double radius, std::span<Neighbour> out, std::size_t k) {
+        return knn(q, radius, out, k, KnnOrder::kAny);
+      },
+      [&](std::uint32_t i) -> const Eigen::Vector3d& { return position(i); },
+      [&](std::uint32_t i) { return this->point(i).line_id; });
+}
+
+const MapPoint& LocalMap::fitted_point(std::uint32_t index, std::vector<Neighbour>& neighbours,
+                                       MapPoint& own_fit) const {
+  MapPoint& mp = cached_point(index);
+  std::atomic_ref<std::uint8_t> state(mp.normal_state);
+  std::uint8_t seen = state.load(std::memory_order_acquire);
+  if (seen == kNormalFitted) return mp;
+  if (seen == kNormalUnfitted && state.compare_exchange_strong(seen, kNormalFitting, std::memory_order_acq_rel)) {
+    const PlaneFit fit = fit_normal(index, mp, neighbours);
+    mp.normal_w = fit.normal.cast<float>();
+    mp.normal_valid = fit.valid;
+    state.store(kNormalFitted, std::memory_order_release);
+    return mp;
+  }
+  if (seen == kNormalFitted) return mp;
+  // Another thread is writing mp's normal: copy only what insert() wrote.
+  own_fit = MapPoint{};
+  own_fit.sensor_w = mp.sensor_w;
+  own_fit.variance_m2 = mp.variance_m2;
+  own_fit.line_id = mp.line_id;
+  const PlaneFit fit = fit_normal(index, own_fit, neighbours);
+  own_fit.normal_w = fit.normal.cast<float>();
+  own_fit.normal_valid = fit.valid;
+  own_fit.normal_state = kNormalFitted;
+  return own_fit;
 }
 
 std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {

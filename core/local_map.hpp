@@ -39,13 +39,23 @@ struct LocalMapParams {
 
 // What ICP reads of a map point besides its position (kept apart, in the
 // chunk's position array the searches scan). Only what ICP needs is kept: the
-// map holds millions of points on a long run.
+// map holds millions of points on a long run. The normal is fitted when ICP
+// first matches the point (LocalMap::fitted_point), not when it goes in: by
+// then later scans have often filled in the surface around it (bench2's
+// error Q3 1.31 → 1.08 cm/m, README, Speed), and a point never matched is
+// never fitted (5 % of a cage scan's time on one core).
 struct MapPoint {
-  Eigen::Vector3d normal_w = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3f normal_w = Eigen::Vector3f::UnitZ();  // set once normal_state is kNormalFitted
+  Eigen::Vector3f sensor_w = Eigen::Vector3f::Zero();   // the sensor when the point went in: the
+                                                        // fit's line of sight
   double variance_m2 = 0;     // σn² + σs² of the point when it was inserted
   std::uint32_t line_id = 0;  // scan line: insert() call number << 8 | ring
   bool normal_valid = false;
+  std::uint8_t normal_state = 0;  // kNormalUnfitted, kNormalFitting or kNormalFitted (atomic_ref)
 };
+inline constexpr std::uint8_t kNormalUnfitted = 0;
+inline constexpr std::uint8_t kNormalFitting = 1;
+inline constexpr std::uint8_t kNormalFitted = 2;
 
 struct MapInsertStats {
   std::size_t inserted = 0;
@@ -56,15 +66,11 @@ struct MapInsertStats {
 
 class LocalMap {
  public:
-  // The normals of new points are fitted on `runner`'s threads.
+  // find_insert_candidates() runs on `runner`'s threads.
   explicit LocalMap(const LocalMapParams& params = {}, ParallelRunner& runner = serial_runner());
 
   // Inserts the points of `cloud` (frame L, rings used for the scan lines)
-  // registered at T_wl, then fits the
-  // normals of the new points from the map around them (this scan included),
-  // oriented toward the sensor position. Existing points keep their normals:
-  // a map point is static once registered, and refitting the neighbourhood of
-  // every insertion would cost O(touched voxels x points) per scan.
+  // registered at T_wl. Their normals wait for fitted_point().
   MapInsertStats insert(const PointCloud& cloud, const Eigen::Isometry3d& T_wl);
 
   // Indices of the points of `cloud` (frame L, at T_wl) with no map point
@@ -84,7 +90,17 @@ class LocalMap {
   // is faster for large k.
   std::size_t knn(const Eigen::Vector3d& q_w, double max_distance_m, std::span<Neighbour> storage,
                   std::size_t k = 0, KnnOrder order = KnnOrder::kNearestFirst) const;
+  // Its normal fields hold once normal_state is kNormalFitted (fitted_point()).
   const MapPoint& point(std::uint32_t index) const { return chunk(index / kChunkPoints).points[index % kChunkPoints]; }
+  // The point with its normal: fitted on the first call from the map as it is
+  // then (oriented toward the sensor that saw the point), kept for later
+  // calls. Existing points keep their normals: a map point is static once
+  // registered, and refitting around every insertion would cost O(touched
+  // voxels x points) per scan. A cache of the positions, so const: concurrent
+  // calls are safe between insert()s, each with its own `neighbours` and
+  // `own_fit`. A call that finds another thread fitting the same point fits
+  // it into own_fit (the same map, so the same normal) and returns that.
+  const MapPoint& fitted_point(std::uint32_t index, std::vector<Neighbour>& neighbours, MapPoint& own_fit) const;
   const Eigen::Vector3d& position(std::uint32_t index) const {
     return chunk(index / kChunkPoints).positions[index % kChunkPoints];
   }
@@ -94,7 +110,7 @@ class LocalMap {
   bool empty() const { return point_count_ == 0; }
   const LocalMapParams& params() const { return params_; }
 
-  // f(position_w, point) for every map point.
+  // f(position_w, point) for every map point (normals as point() says).
   template <class F>
   void for_each_point(F&& f) const {
     for (const auto& [key, slot] : cell_slot_) {
@@ -122,6 +138,12 @@ class LocalMap {
   };
   using ChunkBlock = std::array<Chunk, kBlockChunks>;
   Chunk& chunk(std::uint32_t c) { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }
+  // The normal cache's way into a point from const code (fitted_point).
+  MapPoint& cached_point(std::uint32_t index) const {
+    const std::uint32_t c = index / kChunkPoints;
+    return (*blocks_[c / kBlockChunks])[c % kBlockChunks].points[index % kChunkPoints];
+  }
+  PlaneFit fit_normal(std::uint32_t index, const MapPoint& point, std::vector<Neighbour>& neighbours) const;
   const Chunk& chunk(std::uint32_t c) const { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }
   struct Slot {
     CellKey key;
@@ -158,9 +180,7 @@ class LocalMap {
   std::vector<std::uint32_t> free_slots_;
   std::size_t point_count_ = 0;
   std::uint32_t insert_count_ = 0;
-  std::vector<std::uint32_t> new_points_;  // indices inserted by the current insert()
   std::vector<std::uint8_t> is_candidate_;  // per point of find_insert_candidates()
-  std::vector<std::vector<Neighbour>> neighbours_;  // per worker
   std::vector<CellKey> doomed_;
 };
 

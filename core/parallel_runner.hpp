@@ -1,5 +1,5 @@
-// How the per-point loops of a scan (reading normals, ICP matching, the map's
-// new normals) may be spread over several threads without core owning one:
+// How the per-point loops of a scan (reading normals, ICP matching with the
+// map normals it fits, the map's insert candidates) may be spread over several threads without core owning one:
 // the caller injects a ParallelRunner (tumbled: daemon/worker_pool.hpp), core
 // defaults to running everything on the calling thread. Every loop given to
 // a runner writes only its own points' slots and its worker's scratch, so

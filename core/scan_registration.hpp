@@ -85,7 +85,8 @@ struct StageTimings {
   double normals_s = 0;
   double weights_s = 0;
   double registration_s = 0;  // the whole ICP stage, the two below included
-  double icp_matching_s = 0;  // in ICP: finding, checking and trimming correspondences
+  double icp_matching_s = 0;  // in ICP: finding, checking and trimming correspondences, and the
+                              // normals of map points matched for the first time
   double icp_solve_s = 0;     // in ICP: building and solving the normal equations
   double fuser_correction_s = 0;
   double map_update_s = 0;

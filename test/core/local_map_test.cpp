@@ -154,19 +154,27 @@ TEST(LocalMap, NormalsOfTheRoomAreTheFaceNormals) {
   params.normals.min_other_line_neighbours = 0;  // samples, not a lidar scan
   LocalMap map(params);
   map.insert(surfaces, Eigen::Isometry3d::Identity());
+  std::vector<Neighbour> neighbours;
+  MapPoint own_fit;
   std::size_t checked = 0;
-  map.for_each_point([&](const Eigen::Vector3d& q, const MapPoint& p) {
+  for (const Eigen::Vector3d& q : surfaces.points) {
     // The ceiling (no obstacle reaches it), away from the walls: its points
     // fit its plane exactly.
-    if (std::abs(q.z() - room.interior.hi.z()) > 1e-9) return;
+    if (std::abs(q.z() - room.interior.hi.z()) > 1e-9) continue;
     const double dx = std::min(std::abs(q.x() - room.interior.lo.x()), std::abs(q.x() - room.interior.hi.x()));
     const double dy = std::min(std::abs(q.y() - room.interior.lo.y()), std::abs(q.y() - room.interior.hi.y()));
-    if (dx < 3 * spacing_m || dy < 3 * spacing_m) return;  // beyond the 20 neighbours' reach
+    if (dx < 3 * spacing_m || dy < 3 * spacing_m) continue;  // beyond the 20 neighbours' reach
+    Neighbour self;
+    ASSERT_EQ(map.knn(q, 1e-6, std::span<Neighbour>(&self, 1)), 1u);
+    EXPECT_EQ(map.point(self.index).normal_state, kNormalUnfitted);  // fitted on first use only
+    const MapPoint& p = map.fitted_point(self.index, neighbours, own_fit);
+    EXPECT_EQ(&p, &map.point(self.index));  // kept in the map, not in own_fit
     ASSERT_TRUE(p.normal_valid);
-    EXPECT_NEAR(std::abs(p.normal_w.z()), 1.0, 1e-9);
-    EXPECT_LT(p.normal_w.z(), 0.0);  // toward the sensor at the origin, below the ceiling
+    EXPECT_EQ(p.normal_state, kNormalFitted);
+    EXPECT_NEAR(std::abs(p.normal_w.z()), 1.0, 1e-6);  // stored as float
+    EXPECT_LT(p.normal_w.z(), 0.0f);  // toward the sensor at the origin, below the ceiling
     ++checked;
-  });
+  }
   EXPECT_GT(checked, test::full_or_coarse(3000u, 300u));
 }
 

@@ -11,7 +11,9 @@
 #include <thread>
 #include <vector>
 
+#include "core/local_map.hpp"
 #include "test/core/room_drive.hpp"
+#include "test/core/synthetic_room.hpp"
 
 namespace tumble::daemon {
 namespace {
@@ -86,6 +88,49 @@ TEST(WorkerPool, OneThreadRunsEverythingOnTheCaller) {
   pool.run(500, [&](std::size_t worker, std::size_t begin, std::size_t end) { ranges.insert(ranges.end(), {worker, begin, end}); });
   EXPECT_EQ(ranges, (std::vector<std::size_t>{0, 0, 500}));
   EXPECT_THROW(WorkerPool(0), std::invalid_argument);
+}
+
+// ICP fits a map point's normal when it first matches it, from whichever
+// worker gets there first, while the others may want the same point: every
+// point gets the normal one thread fits, and under ThreadSanitizer no race.
+TEST(WorkerPool, MapNormalsFittedOnFirstUseByThreeThreadsMatchOneThread) {
+  const test::Room room = test::make_room();
+  const PointCloud surfaces = test::sample_room_surfaces(room, test::full_or_coarse(0.1, 0.3));
+  LocalMapParams params;
+  params.normals.min_other_line_neighbours = 0;  // samples, not a lidar scan
+  LocalMap serial_map(params), shared_map(params);
+  serial_map.insert(surfaces, Eigen::Isometry3d::Identity());
+  shared_map.insert(surfaces, Eigen::Isometry3d::Identity());
+  std::vector<std::uint32_t> indices;
+  for (const Eigen::Vector3d& q : surfaces.points) {
+    Neighbour self;
+    if (shared_map.knn(q, 1e-6, std::span<Neighbour>(&self, 1)) == 1) indices.push_back(self.index);
+  }
+  ASSERT_GT(indices.size(), 100u);
+
+  WorkerPool pool(3);
+  struct Scratch {
+    std::vector<Neighbour> neighbours;
+    MapPoint own_fit;
+  };
+  std::vector<Scratch> scratch(pool.workers());
+  std::vector<MapPoint> seen(3 * indices.size());
+  // Each point three times, at nearby positions in the loop: the workers' ranges meet on the same points.
+  pool.run(seen.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    for (std::size_t j = begin; j < end; ++j) {
+      const std::uint32_t index = indices[(j / 3 + (j % 3) * 7) % indices.size()];
+      seen[j] = shared_map.fitted_point(index, scratch[worker].neighbours, scratch[worker].own_fit);
+    }
+  });
+  std::vector<Neighbour> neighbours;
+  MapPoint own_fit;
+  for (std::size_t j = 0; j < seen.size(); ++j) {
+    const std::uint32_t index = indices[(j / 3 + (j % 3) * 7) % indices.size()];
+    const MapPoint& expected = serial_map.fitted_point(index, neighbours, own_fit);
+    ASSERT_EQ(seen[j].normal_state, kNormalFitted) << j;
+    EXPECT_EQ(seen[j].normal_valid, expected.normal_valid) << j;
+    EXPECT_EQ(seen[j].normal_w, expected.normal_w) << j;
+  }
 }
 
 // The registration on the pool's threads: the same result as on one thread
