@@ -87,6 +87,16 @@ class StatusAggregatorTest : public ::testing::Test {
     aggregator_.evaluate(SensorTimeTick{tick_s_, tick_s_ - 0.01, tick_s_ - 0.01, 0, reports_.pushed()});
   }
 
+  // Sensors alive at 1 s and one good scan: tracking.
+  void start_tracking() {
+    counters_.fuser_initialised = true;
+    sensors_alive(kSecond);
+    report_scan(true, 1.0f);
+    aggregator_.tick(kSecond, 0, status_);
+    aggregator_.tick(kSecond, 0, status_);
+    ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  }
+
   void sensors_alive(std::int64_t now_ns) {
     counters_.last_imu_steady_ns = now_ns;
     counters_.last_lidar_steady_ns = now_ns;
@@ -206,12 +216,7 @@ TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChang
 }
 
 TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
-  counters_.fuser_initialised = true;
-  sensors_alive(kSecond);
-  report_scan(true, 1.0f);
-  aggregator_.tick(kSecond, 0, status_);
-  aggregator_.tick(kSecond, 0, status_);
-  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  ASSERT_NO_FATAL_FAILURE(start_tracking());
   const int lines = log_lines();
   aggregator_.input_ended();
   aggregator_.tick(10 * kSecond, 0, status_);  // both sensors silent for 9 s
@@ -221,12 +226,7 @@ TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
 }
 
 TEST_F(StatusAggregatorTest, ScansRegisteredAfterTheInputEndedAreStillJudged) {
-  counters_.fuser_initialised = true;
-  sensors_alive(kSecond);
-  report_scan(true, 1.0f);
-  aggregator_.tick(kSecond, 0, status_);
-  aggregator_.tick(kSecond, 0, status_);
-  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  ASSERT_NO_FATAL_FAILURE(start_tracking());
   aggregator_.input_ended();
   aggregator_.tick(2 * kSecond, 0, status_);  // the sensors silent: the end, no fault
   ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
@@ -240,12 +240,7 @@ TEST_F(StatusAggregatorTest, ScansRegisteredAfterTheInputEndedAreStillJudged) {
 }
 
 TEST_F(StatusAggregatorTest, OutputRingDropsDoNotDegradeHealth) {
-  counters_.fuser_initialised = true;
-  sensors_alive(kSecond);
-  report_scan(true, 1.0f);
-  aggregator_.tick(kSecond, 0, status_);
-  aggregator_.tick(kSecond, 0, status_);
-  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  ASSERT_NO_FATAL_FAILURE(start_tracking());
   for (int i = 0; i < 20; ++i) out_ring_.push(i);
   aggregator_.tick(kSecond, 0, status_);
   EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
