@@ -183,11 +183,11 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   if (drain) status.input_ended();
   pipeline.stop_reporting_health();
   pipeline.stop(drain ? Pipeline::Drain::Yes : Pipeline::Drain::No);
-  if (drain) status.judge_final_scans(sensor_time && newest_tick.t_s > 0.0 ? std::llround(newest_tick.t_s * 1e9)
-                                                                           : steady_now_ns());
-  if (sensor_time && newest_tick.t_s > 0.0) {  // the final counts, at the newest data time
-    status.publish(std::llround(newest_tick.t_s * 1e9), std::llround(newest_tick.t_s * 1e6),
-                   pipeline.status_mailbox().draft());
+  const bool on_data_time = sensor_time && newest_tick.t_s > 0.0;
+  const std::int64_t data_time_ns = std::llround(newest_tick.t_s * 1e9);
+  if (drain) status.judge_final_scans(on_data_time ? data_time_ns : steady_now_ns());
+  if (on_data_time) {  // the final counts, at the newest data time
+    status.publish(data_time_ns, std::llround(newest_tick.t_s * 1e6), pipeline.status_mailbox().draft());
     pipeline.status_mailbox().publish();
     pipeline.output_wakeup().notify();
   } else {

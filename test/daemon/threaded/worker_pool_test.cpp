@@ -116,17 +116,15 @@ TEST(WorkerPool, MapNormalsFittedOnFirstUseByThreeThreadsMatchOneThread) {
   std::vector<Scratch> scratch(pool.workers());
   std::vector<MapPoint> seen(3 * indices.size());
   // Each point three times, at nearby positions in the loop: the workers' ranges meet on the same points.
+  const auto index_of = [&](std::size_t j) { return indices[(j / 3 + (j % 3) * 7) % indices.size()]; };
   pool.run(seen.size(), [&](std::size_t worker, std::size_t begin, std::size_t end) {
-    for (std::size_t j = begin; j < end; ++j) {
-      const std::uint32_t index = indices[(j / 3 + (j % 3) * 7) % indices.size()];
-      seen[j] = shared_map.fitted_point(index, scratch[worker].neighbours, scratch[worker].own_fit);
-    }
+    for (std::size_t j = begin; j < end; ++j)
+      seen[j] = shared_map.fitted_point(index_of(j), scratch[worker].neighbours, scratch[worker].own_fit);
   });
   std::vector<Neighbour> neighbours;
   MapPoint own_fit;
   for (std::size_t j = 0; j < seen.size(); ++j) {
-    const std::uint32_t index = indices[(j / 3 + (j % 3) * 7) % indices.size()];
-    const MapPoint& expected = serial_map.fitted_point(index, neighbours, own_fit);
+    const MapPoint& expected = serial_map.fitted_point(index_of(j), neighbours, own_fit);
     ASSERT_EQ(seen[j].normal_state, kNormalFitted) << j;
     EXPECT_EQ(seen[j].normal_valid, expected.normal_valid) << j;
     EXPECT_EQ(seen[j].normal_w, expected.normal_w) << j;
