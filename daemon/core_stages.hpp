@@ -124,6 +124,7 @@ class CoreRegistrationStage : public RegistrationStage {
   double previous_scan_end_s_ = -1e300;
   int scans_to_check_ = 0;            // after a lidar gap
   int scans_lost_in_a_row_ = 0;
+  bool registered_on_a_map_ = false;  // since then the fuser has a lidar rate for clipped axes
   std::int32_t resets_ = 0;
   TrackingLoss reset_reason_ = TrackingLoss::None;
 };

@@ -24,6 +24,9 @@ constexpr std::string_view kLidarSilent = "no lidar data for too long: the pose 
 constexpr std::string_view kSpinRateUnmeasured =
     "gyro clipped about the lidar's spin axis: that rotation is the registration's alone";
 
+constexpr std::string_view kMapDeferred =
+    "no local map yet: the gyro is clipped, and the first map starts only from a scan it measured whole";
+
 constexpr std::string_view kWeaklyConstrained =
     "registration weakly constrained: expected position error above daemon.health.max_expected_error_m";
 
@@ -37,6 +40,8 @@ std::string_view reason_of(ScanVerdict verdict) {
       return kWeaklyConstrained;
     case ScanVerdict::SpinRateUnmeasured:
       return kSpinRateUnmeasured;
+    case ScanVerdict::MapDeferred:
+      return kMapDeferred;
   }
   return {};
 }
@@ -68,6 +73,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
     case S::Initialising:
       if (!fresh) return {S::WaitingForSensors, stale};
       if (in.fuser_initialised && in.consecutive_good_scans >= 1) return {S::Tracking, "first scan registered"};
+      if (in.worst_scan_in_period == ScanVerdict::MapDeferred) return {S::Initialising, kMapDeferred};
       break;
     case S::Tracking:
       if (!fresh) return {S::Degraded, stale};

@@ -40,6 +40,7 @@ enum class ScanVerdict : std::int8_t {
   PoorRegistration = 1,    // not registered, not used, not converged, too few matches or degenerate
   WeaklyConstrained = 2,   // expected error above daemon.health.max_expected_error_m
   SpinRateUnmeasured = 3,  // gyro clipped about the lidar's spin axis
+  MapDeferred = 4,         // no local map, and the gyro clipped: waiting for a scan that can start one
 };
 
 // Values equal tumble::status_t::STATE_*.

@@ -45,6 +45,7 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
 // A registration not used (untrusted: far from the IMU-propagated pose) may
 // have converged well: it is still no evidence that tracking holds.
 ScanVerdict StatusAggregator::verdict(const RegistrationRecord& r) const {
+  if (r.map_deferred) return ScanVerdict::MapDeferred;
   if (r.spin_rate_unmeasured) return ScanVerdict::SpinRateUnmeasured;
   if (weakly_constrained(r, health_.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
   const bool good = r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
@@ -203,6 +204,7 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.scans_imu_bridged = load(c.scans_imu_bridged);
   out.scans_untrusted = load(c.scans_untrusted);
   out.scans_spin_rate_unmeasured = load(c.scans_spin_rate_unmeasured);
+  out.scans_map_deferred = load(c.scans_map_deferred);
   out.scans_weakly_constrained = load(c.scans_weakly_constrained);
   out.expected_error_max_m = expected_error_max_m_;
   expected_error_max_m_ = 0.0f;

@@ -1,6 +1,7 @@
 // The registration stage's scan assembly as the daemon runs it: a scan that
 // covers too little of a turn is not registered, and each packet fault is
-// counted for status_t and named in the log.
+// counted for status_t and named in the log; the gyro's clipping flags a
+// scan, and keeps the first map from starting.
 #include "daemon/core_stages.hpp"
 
 #include <gtest/gtest.h>
@@ -105,6 +106,31 @@ TEST(CoreRegistrationStage, FlagsScansWithTheGyroClippedAboutTheSpinAxis) {
     flagged.push_back(out.spin_rate_unmeasured);
   }
   EXPECT_EQ(flagged, (std::vector<bool>{false, true, true}));
+}
+
+TEST(CoreRegistrationStage, TheFirstMapWaitsForAScanTheGyroMeasuredWhole) {
+  CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
+  rs16::Decoder decoder;
+  rs16::DecoderStats decoder_stats;
+  const rs16::test::StreamSpec spec;
+  PointBlock block;
+  RegistrationRecord out;
+  struct Taken {
+    bool deferred, map_initialised;
+    bool operator==(const Taken&) const = default;
+  };
+  std::vector<Taken> taken;
+  // Clipped about x (the cage rolling), then whole, then clipped again.
+  const std::uint8_t clipped[] = {0b001, 0b000, 0b001};
+  for (std::int64_t i = 0; i < 400 && taken.size() < 3; ++i) {
+    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
+    if (!stage.add_points(block)) continue;
+    stage.register_held_scan(still_trajectory(stage.held_scan_span(), clipped[taken.size()]), out, nullptr);
+    EXPECT_FALSE(out.map_deferred && out.registered);
+    taken.push_back({out.map_deferred, out.map_initialised});
+  }
+  // The clipped scan after the map exists is registered against it as usual.
+  EXPECT_EQ(taken, (std::vector<Taken>{{true, false}, {false, true}, {false, false}}));
 }
 
 }  // namespace

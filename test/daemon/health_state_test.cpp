@@ -86,6 +86,18 @@ TEST(HealthState, AGyroClippedAboutTheSpinAxisDegradesWithThatReason) {
   EXPECT_EQ(next(S::Degraded, in), S::Tracking);
 }
 
+TEST(HealthState, AFirstMapWaitingForTheGyroStaysInitialisingAndSaysWhy) {
+  HealthInputs in = healthy();
+  in.consecutive_good_scans = 0;
+  in.worst_scan_in_period = ScanVerdict::MapDeferred;
+  const HealthTransition t = next_health_state(S::Initialising, 1.0, in, {});
+  EXPECT_EQ(t.state, S::Initialising);
+  EXPECT_EQ(t.reason,
+            "no local map yet: the gyro is clipped, and the first map starts only from a scan it measured whole");
+  in.consecutive_good_scans = 1;  // the map started, and its first scan counts
+  EXPECT_EQ(next(S::Initialising, in), S::Tracking);
+}
+
 TEST(HealthState, AWeaklyConstrainedRegistrationDegradesWithThatReason) {
   HealthInputs in = healthy();
   in.worst_scan_in_period = ScanVerdict::WeaklyConstrained;

@@ -303,6 +303,25 @@ TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted)
   EXPECT_EQ(status_.scans_spin_rate_unmeasured, 1);
 }
 
+TEST_F(StatusAggregatorTest, AFirstMapWaitingForTheGyroKeepsInitialisingSaysWhyAndIsCounted) {
+  counters_.fuser_initialised = true;
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Initialising);
+  RegistrationRecord deferred;
+  deferred.map_deferred = true;
+  reports_.push(deferred);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Initialising);
+  EXPECT_NE(log_.str().find("warning state initialising: no local map yet: the gyro is clipped"), std::string::npos)
+      << log_.str();
+  report_map_scan(0, TrackingLoss::None, true, true);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.scans_map_deferred = 3;
+  aggregator_.publish(0, 0, status_);
+  EXPECT_EQ(status_.scans_map_deferred, 3);
+}
+
 TEST_F(StatusAggregatorTest, WeaklyConstrainedScansDegradeAndTheLargestExpectedErrorIsReported) {
   const double limit_m = HealthConfig{}.max_expected_error_m;
   const auto scan = [this](double expected_error_m) {
