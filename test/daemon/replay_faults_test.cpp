@@ -1,5 +1,6 @@
-// tumbled replaying a short simulated cage run with one sensor gap mid-tumble
-// (tumble-sim faults): the health states on data time, the same on every
+// tumbled replaying a short simulated cage run with one sensor gap mid-tumble,
+// or its lidar starting mid-tumble (tumble-sim faults): the health states on
+// data time, the same on every
 // replay, and the final error bound of issue 13 (at most 5 cm/m). And a
 // recording whose lidar datagrams arrived late: byte-identical trajectories
 // whatever the thread count and the machine's load (issue 19).
@@ -117,6 +118,18 @@ TEST_F(ReplayFaults, ALidarGapIsReportedWithinASecondAndBridgedTheSameOnEveryRep
   EXPECT_LE(first.cm_per_m, 5.0);
   const Replay second = replay_with("lidar-gap-again", {"--lidar-gap", "4,0.5"});
   EXPECT_EQ(second.states, first.states);
+}
+
+// The lidar's first data 0.4 s into the 10 rad/s pull, past the gyro's range:
+// no first scan can be de-skewed whole, so no map starts (before, the map
+// started there and the run said tracking while it ended 29 cm/m off).
+TEST_F(ReplayFaults, ALidarThatStartsMidPullStartsNoMapWhileTheGyroIsClipped) {
+  const fs::path out = inject("lidar-late", {"--lidar-gap", "0,1.9"});
+  const std::vector<std::string> states = state_lines(run_tumbled(out, out / "trajectory.tum"));
+  EXPECT_TRUE(contains(states, "state initialising: no local map yet: the gyro is clipped"))
+      << ::testing::PrintToString(states);
+  EXPECT_FALSE(contains(states, "-> tracking")) << ::testing::PrintToString(states);
+  EXPECT_EQ(fs::file_size(out / "trajectory.tum"), 0u) << "a pose was registered";
 }
 
 // A lidar restart: silent for 2 s from 3 s, then a new header clock. Past 1 s
