@@ -60,8 +60,7 @@ double imu_hole_s(std::span<const TrajectoryRecord> trajectory, double start_s, 
   return hole;
 }
 
-// Whether a fused sample over [start_s, end_s] had the gyro clipped about the
-// lidar's z axis, the RS-16's spin axis. An error in that rate stretches the
+// The RS-16's spin axis. An error in the rate about it stretches the
 // de-skewed scan along its own azimuth, which a registration hardly sees: at
 // 10 rad/s on the turntable it settled 4.7° a scan short, every scan, with a
 // low residual and a full inlier ratio, and ended 165° off.
@@ -286,11 +285,13 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     fill_record(result_, trajectory, out);
   };
   // The first map starts only from a scan the gyro measured whole. A clipped
-  // axis is a lower bound, and before any registration there is no lidar
-  // rate to stand in for it: the first scan would be de-skewed and placed a
-  // tenth of a turn short (the default run, its map started 0.4 s into the
-  // pull: 55 m off, reported only as weakly constrained). After a reset the
-  // fuser still has the rate of the last registrations.
+  // axis is a lower bound, and until a scan has registered on a map the
+  // fuser has no lidar rate to stand in for it: the first scan would be
+  // de-skewed and placed a tenth of a turn short (the default run, its map
+  // started 0.4 s into the pull: 55 m off, reported only as weakly
+  // constrained). After that, a new map starts with the fuser's last lidar
+  // rate, however old. A bridged scan is de-skewed with the registrations'
+  // prediction, not the gyro.
   if (registration_.map().empty() && !registered_on_a_map_ && !out.imu_bridged &&
       gyro_clipped(trajectory, out.t_s, t_end_s, kAnyLidarAxis)) {
     report_unregistered();

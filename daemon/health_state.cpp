@@ -92,6 +92,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
     case S::Lost:
       if (!fresh) break;
       if (in.new_map_since_lost) return {S::Initialising, "re-initialised: new local map"};
+      if (in.worst_scan_in_period == ScanVerdict::MapDeferred) return {S::Lost, kMapDeferred};
       if (!in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
         return {S::Tracking, "registration good again"};
       break;

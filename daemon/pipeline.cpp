@@ -475,9 +475,11 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   counters_.resets.store(registration_out_.resets, std::memory_order_relaxed);
   if (registration_out_.imu_bridged) counters_.scans_imu_bridged.fetch_add(1, std::memory_order_relaxed);
   if (registration_out_.untrusted) counters_.scans_untrusted.fetch_add(1, std::memory_order_relaxed);
-  if (registration_out_.spin_rate_unmeasured)
+  if (registration_out_.map_deferred) {
+    counters_.scans_map_deferred.fetch_add(1, std::memory_order_relaxed);
+  } else if (registration_out_.spin_rate_unmeasured) {  // counted among the registered
     counters_.scans_spin_rate_unmeasured.fetch_add(1, std::memory_order_relaxed);
-  if (registration_out_.map_deferred) counters_.scans_map_deferred.fetch_add(1, std::memory_order_relaxed);
+  }
   if (weakly_constrained(registration_out_, max_expected_error_m_))
     counters_.scans_weakly_constrained.fetch_add(1, std::memory_order_relaxed);
   // Statistics: live, dropping the oldest is fine; on sensor time they decide the health machine.

@@ -107,7 +107,7 @@ struct RegistrationRecord {
   // The gyro was clipped about the lidar's spin axis during the scan: that rate
   // came from the registrations, which hardly observe it (core_stages.hpp).
   bool spin_rate_unmeasured = false;
-  // No scan registered yet, no map, and the gyro clipped during the scan: it
+  // No scan registered on a map yet, and the gyro clipped during the scan: it
   // cannot start the first map (core_stages.cpp), so it is not registered.
   bool map_deferred = false;
 };

@@ -96,6 +96,11 @@ TEST(HealthState, AFirstMapWaitingForTheGyroStaysInitialisingAndSaysWhy) {
             "no local map yet: the gyro is clipped, and the first map starts only from a scan it measured whole");
   in.consecutive_good_scans = 1;  // the map started, and its first scan counts
   EXPECT_EQ(next(S::Initialising, in), S::Tracking);
+  // Lost, with a new map reset before any scan registered on it: the same reason.
+  in.consecutive_good_scans = 0;
+  const HealthTransition lost = next_health_state(S::Lost, 1.0, in, {});
+  EXPECT_EQ(lost.state, S::Lost);
+  EXPECT_EQ(lost.reason, t.reason);
 }
 
 TEST(HealthState, AWeaklyConstrainedRegistrationDegradesWithThatReason) {

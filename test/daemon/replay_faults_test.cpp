@@ -1,9 +1,9 @@
 // tumbled replaying a short simulated cage run with one sensor gap mid-tumble,
 // or its lidar starting mid-tumble (tumble-sim faults): the health states on
-// data time, the same on every
-// replay, and the final error bound of issue 13 (at most 5 cm/m). And a
-// recording whose lidar datagrams arrived late: byte-identical trajectories
-// whatever the thread count and the machine's load (issue 19).
+// data time, the same on every replay, and the final error bound of issue 13
+// (at most 5 cm/m). And a recording whose lidar datagrams arrived late:
+// byte-identical trajectories whatever the thread count and the machine's
+// load (issue 19).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -124,7 +124,7 @@ TEST_F(ReplayFaults, ALidarGapIsReportedWithinASecondAndBridgedTheSameOnEveryRep
 // no first scan can be de-skewed whole, so no map starts (before, the map
 // started there and the run said tracking while it ended 29 cm/m off).
 TEST_F(ReplayFaults, ALidarThatStartsMidPullStartsNoMapWhileTheGyroIsClipped) {
-  const fs::path out = inject("lidar-late", {"--lidar-gap", "0,1.9"});
+  const fs::path out = inject("lidar-starts-mid-pull", {"--lidar-gap", "0,1.9"});
   const std::vector<std::string> states = state_lines(run_tumbled(out, out / "trajectory.tum"));
   EXPECT_TRUE(contains(states, "state initialising: no local map yet: the gyro is clipped"))
       << ::testing::PrintToString(states);
