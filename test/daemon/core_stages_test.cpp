@@ -110,28 +110,53 @@ TEST(CoreRegistrationStage, FlagsScansWithTheGyroClippedAboutTheSpinAxis) {
   EXPECT_EQ(flagged, (std::vector<bool>{false, true, true}));
 }
 
-TEST(CoreRegistrationStage, TheFirstMapWaitsForAScanTheGyroMeasuredWhole) {
+// How the stage took a scan.
+struct Taken {
+  bool deferred, map_initialised, registered;
+  bool operator==(const Taken&) const = default;
+};
+
+// Registers one scan per entry of `clipped` (the gyro's clipped lidar axes
+// over it, on a still trajectory), with the lidar silent for 1.3 s (a reset:
+// lidar_silent_to_lost_s is 1 s) before scan number `silent_before`.
+std::vector<Taken> take_scans(const std::vector<std::uint8_t>& clipped,
+                              std::size_t silent_before = std::numeric_limits<std::size_t>::max()) {
   CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
   rs16::Decoder decoder;
   rs16::DecoderStats decoder_stats;
   const rs16::test::StreamSpec spec;
   PointBlock block;
   RegistrationRecord out;
-  struct Taken {
-    bool deferred, map_initialised, registered;
-    bool operator==(const Taken&) const = default;
-  };
   std::vector<Taken> taken;
-  // Clipped about x (the cage rolling), then whole, then clipped again.
-  const std::uint8_t clipped[] = {0b001, 0b000, 0b001};
-  for (std::int64_t i = 0; i < 400 && taken.size() < 3; ++i) {
-    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
+  bool silent_yet = false;
+  for (std::int64_t i = 0; i < 2000 && taken.size() < clipped.size(); ++i) {
+    if (taken.size() == silent_before && !silent_yet) {
+      i += 1000;  // 1.33 ms a packet
+      silent_yet = true;
+    }
+    EXPECT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
     if (!stage.add_points(block)) continue;
     stage.register_held_scan(still_trajectory(stage.held_scan_span(), clipped[taken.size()]), out, nullptr);
     taken.push_back({out.map_deferred, out.map_initialised, out.registered});
   }
+  return taken;
+}
+
+constexpr std::uint8_t kWhole = 0b000;
+constexpr std::uint8_t kClippedAboutX = 0b001;  // the cage rolling
+
+TEST(CoreRegistrationStage, TheFirstMapWaitsForAScanTheGyroMeasuredWhole) {
   // The clipped scan after the map exists is registered against it as usual.
-  EXPECT_EQ(taken, (std::vector<Taken>{{true, false, false}, {false, true, true}, {false, false, true}}));
+  EXPECT_EQ(take_scans({kClippedAboutX, kWhole, kClippedAboutX}),
+            (std::vector<Taken>{{true, false, false}, {false, true, true}, {false, false, true}}));
+}
+
+TEST(CoreRegistrationStage, AfterAScanRegisteredOnAMapANewMapStartsEvenWithTheGyroClipped) {
+  // The lidar silent, then a new map: the fuser has the last registrations' rate.
+  EXPECT_EQ(take_scans({kWhole, kWhole, kClippedAboutX}, 2),
+            (std::vector<Taken>{{false, true, true}, {false, false, true}, {false, true, true}}));
+  // Reset before any scan registered on the first map: still no rate to take.
+  EXPECT_EQ(take_scans({kWhole, kClippedAboutX}, 1), (std::vector<Taken>{{false, true, true}, {true, false, false}}));
 }
 
 }  // namespace

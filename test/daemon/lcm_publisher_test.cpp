@@ -136,6 +136,7 @@ TEST_F(LcmPublisherTest, RegistrationDecodesWithItsContentAndReachesObservers) {
   r.points_used = 9000;
   r.num_stages = 3;
   r.stage_ms = {1.5f, 2.5f, 30.0f};
+  r.map_deferred = true;
   registrations_.push(r);
   EXPECT_EQ(publisher.publish_pending(), 1u);
   deliver();
@@ -154,6 +155,7 @@ TEST_F(LcmPublisherTest, RegistrationDecodesWithItsContentAndReachesObservers) {
   ASSERT_EQ(m.num_stages, 3);
   EXPECT_EQ(m.stage_name, (std::vector<std::string>{"deskew", "weights", "icp"}));
   EXPECT_EQ(m.stage_ms, (std::vector<float>{1.5f, 2.5f, 30.0f}));
+  EXPECT_TRUE(m.map_deferred);
   EXPECT_EQ(observer.indices, (std::vector<std::int64_t>{42}));
 }
 
