@@ -85,49 +85,19 @@ std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span,
   return trajectory;
 }
 
-TEST(CoreRegistrationStage, FlagsScansWithTheGyroClippedAboutTheSpinAxis) {
-  // The flag comes from the trajectory alone: every scan is left unregistered
-  // (too few points, and then no map to start: the first map waits for a
-  // scan the gyro measured whole), which keeps the test quick under the
-  // sanitizers.
-  OdometryParams params = odometry_params(DaemonConfig{});
-  params.min_scan_points = std::numeric_limits<std::size_t>::max();
+// Registers one scan per entry of `clipped` (the gyro's clipped lidar axes
+// over it, on a still trajectory) and returns their records, with the lidar
+// silent for 1.3 s (a reset: lidar_silent_to_lost_s is 1 s) before scan
+// number `silent_before`.
+std::vector<RegistrationRecord> take_scans(const std::vector<std::uint8_t>& clipped,
+                                           std::size_t silent_before = std::numeric_limits<std::size_t>::max(),
+                                           const OdometryParams& params = odometry_params(DaemonConfig{})) {
   CoreRegistrationStage stage(params, scan_assembler_config(LidarConfig{}));
   rs16::Decoder decoder;
   rs16::DecoderStats decoder_stats;
   const rs16::test::StreamSpec spec;
   PointBlock block;
-  RegistrationRecord out;
-  std::vector<bool> flagged;
-  for (std::int64_t i = 0; i < 400 && flagged.size() < 3; ++i) {
-    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
-    if (!stage.add_points(block)) continue;
-    // Clipped about lidar x, then z (the RS-16 spins about z), then x and z.
-    const std::uint8_t axes = flagged.empty() ? 0b001 : flagged.size() == 1 ? 0b100 : 0b101;
-    stage.register_held_scan(still_trajectory(stage.held_scan_span(), axes), out, nullptr);
-    flagged.push_back(out.spin_rate_unmeasured);
-  }
-  EXPECT_EQ(flagged, (std::vector<bool>{false, true, true}));
-}
-
-// How the stage took a scan.
-struct Taken {
-  bool deferred, map_initialised, registered;
-  bool operator==(const Taken&) const = default;
-};
-
-// Registers one scan per entry of `clipped` (the gyro's clipped lidar axes
-// over it, on a still trajectory), with the lidar silent for 1.3 s (a reset:
-// lidar_silent_to_lost_s is 1 s) before scan number `silent_before`.
-std::vector<Taken> take_scans(const std::vector<std::uint8_t>& clipped,
-                              std::size_t silent_before = std::numeric_limits<std::size_t>::max()) {
-  CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
-  rs16::Decoder decoder;
-  rs16::DecoderStats decoder_stats;
-  const rs16::test::StreamSpec spec;
-  PointBlock block;
-  RegistrationRecord out;
-  std::vector<Taken> taken;
+  std::vector<RegistrationRecord> taken;
   bool silent_yet = false;
   for (std::int64_t i = 0; i < 2000 && taken.size() < clipped.size(); ++i) {
     if (taken.size() == silent_before && !silent_yet) {
@@ -136,10 +106,37 @@ std::vector<Taken> take_scans(const std::vector<std::uint8_t>& clipped,
     }
     EXPECT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
     if (!stage.add_points(block)) continue;
-    stage.register_held_scan(still_trajectory(stage.held_scan_span(), clipped[taken.size()]), out, nullptr);
-    taken.push_back({out.map_deferred, out.map_initialised, out.registered});
+    taken.emplace_back();
+    stage.register_held_scan(still_trajectory(stage.held_scan_span(), clipped[taken.size() - 1]), taken.back(),
+                             nullptr);
   }
   return taken;
+}
+
+TEST(CoreRegistrationStage, FlagsScansWithTheGyroClippedAboutTheSpinAxis) {
+  // The flag comes from the trajectory alone: every scan is left unregistered
+  // (too few points, and then no map to start: the first map waits for a
+  // scan the gyro measured whole), which keeps the test quick under the
+  // sanitizers.
+  OdometryParams params = odometry_params(DaemonConfig{});
+  params.min_scan_points = std::numeric_limits<std::size_t>::max();
+  // Clipped about lidar x, then z (the RS-16 spins about z), then x and z.
+  std::vector<bool> flagged;
+  for (const RegistrationRecord& r : take_scans({0b001, 0b100, 0b101}, std::numeric_limits<std::size_t>::max(), params))
+    flagged.push_back(r.spin_rate_unmeasured);
+  EXPECT_EQ(flagged, (std::vector<bool>{false, true, true}));
+}
+
+// How the stage took each scan.
+struct Taken {
+  bool deferred, map_initialised, registered;
+  bool operator==(const Taken&) const = default;
+};
+
+std::vector<Taken> taken(const std::vector<RegistrationRecord>& records) {
+  std::vector<Taken> out;
+  for (const RegistrationRecord& r : records) out.push_back({r.map_deferred, r.map_initialised, r.registered});
+  return out;
 }
 
 constexpr std::uint8_t kWhole = 0b000;
@@ -147,16 +144,17 @@ constexpr std::uint8_t kClippedAboutX = 0b001;  // the cage rolling
 
 TEST(CoreRegistrationStage, TheFirstMapWaitsForAScanTheGyroMeasuredWhole) {
   // The clipped scan after the map exists is registered against it as usual.
-  EXPECT_EQ(take_scans({kClippedAboutX, kWhole, kClippedAboutX}),
+  EXPECT_EQ(taken(take_scans({kClippedAboutX, kWhole, kClippedAboutX})),
             (std::vector<Taken>{{true, false, false}, {false, true, true}, {false, false, true}}));
 }
 
 TEST(CoreRegistrationStage, AfterAScanRegisteredOnAMapANewMapStartsEvenWithTheGyroClipped) {
   // The lidar silent, then a new map: the fuser has the last registrations' rate.
-  EXPECT_EQ(take_scans({kWhole, kWhole, kClippedAboutX}, 2),
+  EXPECT_EQ(taken(take_scans({kWhole, kWhole, kClippedAboutX}, 2)),
             (std::vector<Taken>{{false, true, true}, {false, false, true}, {false, true, true}}));
   // Reset before any scan registered on the first map: still no rate to take.
-  EXPECT_EQ(take_scans({kWhole, kClippedAboutX}, 1), (std::vector<Taken>{{false, true, true}, {true, false, false}}));
+  EXPECT_EQ(taken(take_scans({kWhole, kClippedAboutX}, 1)),
+            (std::vector<Taken>{{false, true, true}, {true, false, false}}));
 }
 
 }  // namespace
