@@ -160,24 +160,26 @@ const MapPoint& LocalMap::fitted_point(std::uint32_t index, std::vector<Neighbou
   std::atomic_ref<std::uint8_t> state(mp.normal_state);
   std::uint8_t seen = state.load(std::memory_order_acquire);
   if (seen == kNormalFitted) return mp;
-  if (seen == kNormalUnfitted && state.compare_exchange_strong(seen, kNormalFitting, std::memory_order_acq_rel)) {
-    const PlaneFit fit = fit_normal(index, mp, neighbours);
-    mp.normal_w = fit.normal.cast<float>();
-    mp.normal_valid = fit.valid;
-    state.store(kNormalFitted, std::memory_order_release);
-    return mp;
-  }
+  const bool claimed =
+      seen == kNormalUnfitted && state.compare_exchange_strong(seen, kNormalFitting, std::memory_order_acq_rel);
   if (seen == kNormalFitted) return mp;
-  // Another thread is writing mp's normal: copy only what insert() wrote.
-  own_fit = MapPoint{};
-  own_fit.sensor_w = mp.sensor_w;
-  own_fit.variance_m2 = mp.variance_m2;
-  own_fit.line_id = mp.line_id;
-  const PlaneFit fit = fit_normal(index, own_fit, neighbours);
-  own_fit.normal_w = fit.normal.cast<float>();
-  own_fit.normal_valid = fit.valid;
-  own_fit.normal_state = kNormalFitted;
-  return own_fit;
+  MapPoint* target = &mp;
+  if (!claimed) {  // another thread is writing mp's normal: copy only what insert() wrote
+    own_fit = MapPoint{};
+    own_fit.sensor_w = mp.sensor_w;
+    own_fit.variance_m2 = mp.variance_m2;
+    own_fit.line_id = mp.line_id;
+    target = &own_fit;
+  }
+  const PlaneFit fit = fit_normal(index, *target, neighbours);
+  target->normal_w = fit.normal.cast<float>();
+  target->normal_valid = fit.valid;
+  if (claimed) {
+    state.store(kNormalFitted, std::memory_order_release);
+  } else {
+    own_fit.normal_state = kNormalFitted;
+  }
+  return *target;
 }
 
 std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {

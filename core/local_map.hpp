@@ -140,8 +140,7 @@ class LocalMap {
   Chunk& chunk(std::uint32_t c) { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }
   // The normal cache's way into a point from const code (fitted_point).
   MapPoint& cached_point(std::uint32_t index) const {
-    const std::uint32_t c = index / kChunkPoints;
-    return (*blocks_[c / kBlockChunks])[c % kBlockChunks].points[index % kChunkPoints];
+    return const_cast<Chunk&>(chunk(index / kChunkPoints)).points[index % kChunkPoints];
   }
   PlaneFit fit_normal(std::uint32_t index, const MapPoint& point, std::vector<Neighbour>& neighbours) const;
   const Chunk& chunk(std::uint32_t c) const { return (*blocks_[c / kBlockChunks])[c % kBlockChunks]; }

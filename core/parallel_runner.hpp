@@ -1,7 +1,8 @@
 // How the per-point loops of a scan (reading normals, ICP matching with the
-// map normals it fits, the map's insert candidates) may be spread over several threads without core owning one:
-// the caller injects a ParallelRunner (tumbled: daemon/worker_pool.hpp), core
-// defaults to running everything on the calling thread. Every loop given to
+// map normals it fits, the map's insert candidates) may be spread over
+// several threads without core owning one: the caller injects a
+// ParallelRunner (tumbled: daemon/worker_pool.hpp), core defaults to
+// running everything on the calling thread. Every loop given to
 // a runner writes only its own points' slots and its worker's scratch, so
 // the result does not depend on how the range is split or scheduled.
 #pragma once

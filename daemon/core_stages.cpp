@@ -65,13 +65,13 @@ double imu_hole_s(std::span<const TrajectoryRecord> trajectory, double start_s, 
 // 10 rad/s on the turntable it settled 4.7° a scan short, every scan, with a
 // low residual and a full inlier ratio, and ended 165° off.
 constexpr std::uint8_t kLidarZ = 1u << 2;
-constexpr std::uint8_t kAnyLidarAxis = 0b111;
 
-// Whether the gyro clipped about any of `axes` (lidar axes, bit 0 = x) during the span.
-bool gyro_clipped(std::span<const TrajectoryRecord> trajectory, double start_s, double end_s, std::uint8_t axes) {
-  return std::any_of(trajectory.begin(), trajectory.end(), [&](const TrajectoryRecord& r) {
-    return r.t_s >= start_s && r.t_s <= end_s && (r.gyro_saturated_axes & axes) != 0;
-  });
+// The lidar axes (bit 0 = x) the gyro clipped about during the span.
+std::uint8_t gyro_clipped_axes(std::span<const TrajectoryRecord> trajectory, double start_s, double end_s) {
+  std::uint8_t axes = 0;
+  for (const TrajectoryRecord& r : trajectory)
+    if (r.t_s >= start_s && r.t_s <= end_s) axes |= r.gyro_saturated_axes;
+  return axes;
 }
 
 }  // namespace
@@ -256,7 +256,9 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     conditions.trajectory_measured = false;
     out.imu_bridged = true;
   }
-  out.spin_rate_unmeasured = !out.imu_bridged && gyro_clipped(trajectory, out.t_s, t_end_s, kLidarZ);
+  // A bridged scan is de-skewed with the registrations' prediction, not the gyro.
+  const std::uint8_t clipped_axes = out.imu_bridged ? 0 : gyro_clipped_axes(trajectory, out.t_s, t_end_s);
+  out.spin_rate_unmeasured = (clipped_axes & kLidarZ) != 0;
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
   const double lidar_silent_s = out.t_s - previous_scan_end_s_;
   previous_scan_start_s_ = out.t_s;
@@ -290,10 +292,8 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // de-skewed and placed a tenth of a turn short (the default run, its map
   // started 0.4 s into the pull: 55 m off, reported only as weakly
   // constrained). After that, a new map starts with the fuser's last lidar
-  // rate, however old. A bridged scan is de-skewed with the registrations'
-  // prediction, not the gyro.
-  if (registration_.map().empty() && !registered_on_a_map_ && !out.imu_bridged &&
-      gyro_clipped(trajectory, out.t_s, t_end_s, kAnyLidarAxis)) {
+  // rate, however old.
+  if (registration_.map().empty() && !registered_on_a_map_ && clipped_axes != 0) {
     report_unregistered();
     out.map_deferred = true;
     return;
