@@ -137,6 +137,7 @@ MapInsertStats LocalMap::insert(const PointCloud& cloud, const Eigen::Isometry3d
     mp.line_id = line_base | cloud.rings[i];
     mp.sensor_w = sensor_w;
     last.positions[j] = p_w;
+    extend_bounds(voxel, p_w);
     ++stats.inserted;
   }
   point_count_ += stats.inserted;
@@ -152,6 +153,18 @@ PlaneFit LocalMap::fit_normal(std::uint32_t index, const MapPoint& point, std::v
       },
       [&](std::uint32_t i) -> const Eigen::Vector3d& { return position(i); },
       [&](std::uint32_t i) { return this->point(i).line_id; });
+}
+
+PlaneFit LocalMap::surface_at(std::uint32_t index, std::vector<Neighbour>& neighbours) const {
+  const MapPoint& mp = point(index);
+  const std::atomic_ref<std::uint8_t> state(cached_point(index).normal_state);
+  if (state.load(std::memory_order_acquire) == kNormalFitted) {
+    PlaneFit fit;
+    fit.normal = mp.normal_w.cast<double>();
+    fit.valid = mp.normal_valid;
+    return fit;
+  }
+  return fit_normal(index, mp, neighbours);
 }
 
 const MapPoint& LocalMap::fitted_point(std::uint32_t index, std::vector<Neighbour>& neighbours,
@@ -193,14 +206,77 @@ std::size_t LocalMap::remove_far_from(const Eigen::Vector3d& centre_w) {
   std::size_t removed = 0;
   for (const CellKey& key : doomed_) {
     const auto it = cell_slot_.find(key);
-    const std::uint32_t slot = it->second;
-    removed += slots_[slot].count;
-    release(slots_[slot]);
-    free_slots_.push_back(slot);
-    cell_slot_.erase(it);
-    occupancy_.remove(key);
+    removed += slots_[it->second].count;
+    drop_voxel(it);
   }
   point_count_ -= removed;
+  return removed;
+}
+
+void LocalMap::drop_voxel(tsl::robin_map<CellKey, std::uint32_t, CellKeyHash>::iterator it) {
+  const CellKey key = it->first;
+  const std::uint32_t slot = it->second;
+  release(slots_[slot]);
+  free_slots_.push_back(slot);
+  cell_slot_.erase(it);
+  occupancy_.remove(key);
+}
+
+std::size_t LocalMap::remove_points(std::vector<std::uint32_t>& indices) {
+  std::sort(indices.begin(), indices.end());
+  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
+  // Grouped by voxel, each group's indices in order (what compact_voxel() reads).
+  doomed_points_.clear();
+  for (const std::uint32_t index : indices)
+    doomed_points_.push_back({cell_slot_.find(cell_of(position(index), inv_voxel_))->second, index});
+  std::sort(doomed_points_.begin(), doomed_points_.end());
+  std::size_t removed = 0;
+  for (std::size_t begin = 0; begin < doomed_points_.size();) {
+    const std::uint32_t slot = doomed_points_[begin].first;
+    std::size_t end = begin;
+    voxel_doomed_.clear();
+    for (; end < doomed_points_.size() && doomed_points_[end].first == slot; ++end)
+      voxel_doomed_.push_back(doomed_points_[end].second);
+    removed += compact_voxel(slot, voxel_doomed_);
+    if (slots_[slot].count == 0) drop_voxel(cell_slot_.find(slots_[slot].key));
+    begin = end;
+  }
+  point_count_ -= removed;
+  return removed;
+}
+
+// Moves the voxel's surviving points to its front, in order, and frees the
+// chunks left empty behind them.
+std::size_t LocalMap::compact_voxel(std::uint32_t slot, std::span<const std::uint32_t> doomed_sorted) {
+  Slot& voxel = slots_[slot];
+  voxel_chunks_.clear();
+  for (std::uint32_t c = voxel.first_chunk, left = voxel.count; left > 0; c = chunk(c).next) {
+    voxel_chunks_.push_back(c);
+    left -= std::min(left, kChunkPoints);
+  }
+  auto index_of = [&](std::uint32_t k) { return voxel_chunks_[k / kChunkPoints] * kChunkPoints + k % kChunkPoints; };
+  std::uint32_t kept = 0;
+  voxel.lo.setConstant(std::numeric_limits<float>::infinity());
+  voxel.hi.setConstant(-std::numeric_limits<float>::infinity());
+  for (std::uint32_t k = 0; k < voxel.count; ++k) {
+    const std::uint32_t from = index_of(k);
+    if (std::binary_search(doomed_sorted.begin(), doomed_sorted.end(), from)) continue;
+    extend_bounds(voxel, position(from));
+    const std::uint32_t to = index_of(kept++);
+    if (to == from) continue;
+    chunk(to / kChunkPoints).positions[to % kChunkPoints] = position(from);
+    chunk(to / kChunkPoints).points[to % kChunkPoints] = point(from);
+  }
+  const std::uint32_t removed = voxel.count - kept;
+  voxel.count = kept;
+  const std::size_t chunks_kept = (kept + kChunkPoints - 1) / kChunkPoints;
+  for (std::size_t k = chunks_kept; k < voxel_chunks_.size(); ++k) free_chunks_.push_back(voxel_chunks_[k]);
+  if (chunks_kept == 0) {
+    voxel.first_chunk = voxel.last_chunk = kNoChunk;
+  } else {
+    voxel.last_chunk = voxel_chunks_[chunks_kept - 1];
+    chunk(voxel.last_chunk).next = kNoChunk;
+  }
   return removed;
 }
 

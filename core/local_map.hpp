@@ -10,9 +10,12 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/grid_search.hpp"
@@ -84,6 +87,29 @@ class LocalMap {
   // Drops every voxel whose centre is farther than radius_m from centre_w.
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
 
+  // Drops the points of `indices` (sorted and deduplicated in place); returns
+  // how many went. Every other point keeps its data, but indices of points
+  // that shared a voxel with a dropped one change.
+  std::size_t remove_points(std::vector<std::uint32_t>& indices);
+
+  // f(index, position_w) for every point of the cell `key` (voxel_size_m
+  // cells) inside the box [lo, hi].
+  template <class F>
+  void for_each_point_in_cell(const CellKey& key, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, F&& f) const {
+    if (!occupancy_.maybe_occupied(key)) return;
+    const auto it = cell_slot_.find(key);
+    if (it == cell_slot_.end()) return;
+    const Slot& slot = slots_[it->second];
+    if ((slot.lo.cast<double>().array() > hi.array()).any() || (slot.hi.cast<double>().array() < lo.array()).any())
+      return;
+    for_each_chunk(slot, [&](const Chunk& chunk, std::uint32_t base, std::uint32_t n) {
+      for (std::uint32_t j = 0; j < n; ++j) {
+        const Eigen::Vector3d& p = chunk.positions[j];
+        if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) f(base + j, p);
+      }
+    });
+  }
+
   // The up to k (0: storage.size()) nearest map points of q_w within
   // max_distance_m, nearest first unless `order` is kAny, at the front of
   // storage; returns how many. Resolve an index with point(). Storage for 2k
@@ -101,6 +127,10 @@ class LocalMap {
   // `own_fit`. A call that finds another thread fitting the same point fits
   // it into own_fit (the same map, so the same normal) and returns that.
   const MapPoint& fitted_point(std::uint32_t index, std::vector<Neighbour>& neighbours, MapPoint& own_fit) const;
+  // The point's surface: its normal where fitted_point() has fitted it, else
+  // a fit from the map as it is now that is not kept (the point's own waits
+  // for ICP). Safe concurrently with itself and fitted_point() between insert()s.
+  PlaneFit surface_at(std::uint32_t index, std::vector<Neighbour>& neighbours) const;
   const Eigen::Vector3d& position(std::uint32_t index) const {
     return chunk(index / kChunkPoints).positions[index % kChunkPoints];
   }
@@ -149,6 +179,11 @@ class LocalMap {
     std::uint32_t count = 0;
     std::uint32_t first_chunk = kNoChunk;
     std::uint32_t last_chunk = kNoChunk;
+    // Bounds of the voxel's points (floats, rounded outward), so a search
+    // for a thin box skips a voxel whose points all lie elsewhere in it: a
+    // beam 0.3 m up crosses the floor's voxels all the way to its return.
+    Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::infinity());
+    Eigen::Vector3f hi = Eigen::Vector3f::Constant(-std::numeric_limits<float>::infinity());
   };
   // f(chunk, index of its first point, points used in it) for each chunk of the voxel.
   template <class F>
@@ -166,6 +201,16 @@ class LocalMap {
   std::uint32_t slot_for(const CellKey& key);
   std::uint32_t new_chunk();
   void release(Slot& slot);
+  // Widens the slot's bounds to hold p (rounded outward to float).
+  static void extend_bounds(Slot& slot, const Eigen::Vector3d& p) {
+    constexpr float kInf = std::numeric_limits<float>::infinity();
+    for (int k = 0; k < 3; ++k) {
+      slot.lo[k] = std::min(slot.lo[k], std::nextafter(static_cast<float>(p[k]), -kInf));
+      slot.hi[k] = std::max(slot.hi[k], std::nextafter(static_cast<float>(p[k]), kInf));
+    }
+  }
+  void drop_voxel(tsl::robin_map<CellKey, std::uint32_t, CellKeyHash>::iterator it);
+  std::size_t compact_voxel(std::uint32_t slot, std::span<const std::uint32_t> doomed_sorted);
 
   LocalMapParams params_;
   ParallelRunner* runner_;
@@ -181,6 +226,11 @@ class LocalMap {
   std::uint32_t insert_count_ = 0;
   std::vector<std::uint8_t> is_candidate_;  // per point of find_insert_candidates()
   std::vector<CellKey> doomed_;
+  // remove_points()'s scratch: (slot, index) of the doomed points, one voxel's
+  // doomed indices, that voxel's chunks in order.
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> doomed_points_;
+  std::vector<std::uint32_t> voxel_doomed_;
+  std::vector<std::uint32_t> voxel_chunks_;
 };
 
 }  // namespace tumble

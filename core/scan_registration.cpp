@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/deskew.hpp"
+#include "core/registration_confidence.hpp"
 
 namespace tumble {
 
@@ -44,6 +45,7 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       line_normals_(params.reading_normals, params.scan_line_window, runner),
       icp_(icp_params_for(params), clock_, runner),
       map_(params.map, runner),
+      seen_through_(params.seen_through, runner),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
 void ScanRegistration::reset_map() { map_ = LocalMap(params_.map, runner_); }
@@ -190,6 +192,28 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
                                 : params_.min_position_sigma_m;
   lap(timing.registration_s);
 
+  if (result.registered && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
+      params_.seen_through.enabled &&
+      expected_position_error_m(published_covariance(result.covariance)) <= params_.seen_through.max_expected_error_m) {
+    // Before the scan's own points go in: they lie at its beams' ends.
+    // Every beam_stride-th registered point casts a beam, the others on the next scans.
+    const std::size_t stride = params_.seen_through.beam_stride;
+    const Eigen::Isometry3d to_scan_start = trajectory.pose_at(t_start).inverse();
+    const Eigen::Matrix3d R_wl = result.T_wl.linear();
+    std::size_t hint = 0;
+    beams_.clear();
+    for (std::size_t i = seen_through_scans_++ % stride; i < registered_.size(); i += stride) {
+      MapBeam& beam = beams_.emplace_back();
+      beam.origin_w = result.T_wl * (to_scan_start * trajectory.pose_at(registered_.times_s[i], hint)).translation();
+      beam.end_w = result.T_wl * registered_.points[i];
+      beam.end_normal_w = registered_.normal_valid[i] ? Eigen::Vector3d(R_wl * registered_.normals[i])
+                                                      : Eigen::Vector3d::Zero();
+    }
+    returns_w_.resize(reading_.size());
+    for (std::size_t i = 0; i < reading_.size(); ++i) returns_w_[i] = result.T_wl * reading_.points[i];
+    result.map_points_seen_through = seen_through_.remove(map_, beams_, returns_w_);
+    lap(timing.seen_through_s);
+  }
   if (result.registered) {
     // Only points with no map point within the minimum distance can go in.
     const std::size_t candidates = map_.find_insert_candidates(reading_.points, result.T_wl, candidate_indices_);

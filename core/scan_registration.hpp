@@ -19,6 +19,7 @@
 #include "core/point_cloud.hpp"
 #include "core/point_weights.hpp"
 #include "core/scan_line_normals.hpp"
+#include "core/seen_through.hpp"
 #include "core/trajectory.hpp"
 #include "core/types.hpp"
 #include "core/voxel_grid.hpp"
@@ -59,6 +60,11 @@ struct OdometryParams {
   // The map: radius_m 50, min_point_distance_m 0.05, max_sigma_s_m 1,
   // max_points_per_voxel 100, voxel_size_m 0.5, normals (k 20 and the validity limits).
   LocalMapParams map;
+  // Map points that a registered scan's beams see through leave the map
+  // (people, the rope puller, doors; issue 19). Only scans de-skewed with a
+  // measured trajectory (the beams' geometry is known only then) and
+  // registered within seen_through.max_expected_error_m.
+  SeenThroughParams seen_through;
   // Registration: max_match_distance_m 1, match_k 1, FRMSD 0.5/0.7/2.35,
   // max_iterations 40, convergence. `icp.weighting` is set from the weight
   // model (SAW: the point's weight; the others: inverse variance).
@@ -89,6 +95,7 @@ struct StageTimings {
                               // normals of map points matched for the first time
   double icp_solve_s = 0;     // in ICP: building and solving the normal equations
   double fuser_correction_s = 0;
+  double seen_through_s = 0;  // removing the map points the scan's beams passed through
   double map_update_s = 0;
   double total_s = 0;
 };
@@ -117,6 +124,7 @@ struct ScanResult {
   std::size_t points_downsampled = 0;
   std::size_t points_registered = 0;  // that entered ICP (registration_voxel_size_m)
   std::size_t map_points = 0;  // after the update
+  std::size_t map_points_seen_through = 0;  // removed from the map by this scan's beams
   // rejected_too_close also counts the points ruled out before their σ's
   // were computed (a map point within the minimum distance); rejected_sigma
   // only the others.
@@ -180,6 +188,10 @@ class ScanRegistration {
   PointWeightWorkspace weight_workspace_;
   Icp icp_;
   LocalMap map_;
+  SeenThroughRemover seen_through_;
+  std::vector<MapBeam> beams_;
+  std::size_t seen_through_scans_ = 0;  // scans that removed seen-through points: which beams are next
+  std::vector<Eigen::Vector3d> returns_w_;  // the down-sampled scan in the world frame
   double last_scan_start_s_ = -1e300;
   VoxelDownsampler registration_selector_;
   PointCloud raw_;

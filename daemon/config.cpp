@@ -141,6 +141,12 @@ void visit_config(Visitor& v, Config& c) {
     v.field("max_sigma_m", m.max_sigma_m, Range{0.0, 100.0});
     v.field("voxel_size_m", m.voxel_size_m, Range{0.05, 10.0});
     v.field("points_per_voxel", m.points_per_voxel, IntRange{1, 10000});
+    v.field("remove_seen_through", m.remove_seen_through, AnyText{});
+    v.field("seen_through_beam_radius_m", m.seen_through_beam_radius_m, Range{0.005, 1.0});
+    v.field("seen_through_margin_m", m.seen_through_margin_m, Range{0.0, 10.0});
+    v.field("seen_through_max_range_m", m.seen_through_max_range_m, Range{1.0, 200.0});
+    v.field("seen_through_max_expected_error_m", m.seen_through_max_expected_error_m, Range{0.001, 10.0});
+    v.field("seen_through_beam_stride", m.seen_through_beam_stride, IntRange{1, 64});
   });
   v.section("lcm", [&] {
     v.field("url", c.lcm.url, LcmUrl{});

@@ -115,6 +115,12 @@ struct MapConfig {
   double max_sigma_m = 1.0;
   double voxel_size_m = 0.5;
   int points_per_voxel = 100;
+  bool remove_seen_through = true;
+  double seen_through_beam_radius_m = 0.05;
+  double seen_through_margin_m = 0.5;
+  double seen_through_max_range_m = 30.0;
+  double seen_through_max_expected_error_m = 0.03;
+  int seen_through_beam_stride = 2;
   bool operator==(const MapConfig&) const = default;
 };
 

@@ -192,7 +192,7 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
       lidar_silent_to_reset_s_(lidar_silent_to_reset_s) {}
 
 std::vector<std::string> CoreRegistrationStage::stage_names() const {
-  return {"deskew", "downsample", "normals", "weights", "icp_matching", "icp_solve", "map_update"};
+  return {"deskew", "downsample", "normals", "weights", "icp_matching", "icp_solve", "seen_through", "map_update"};
 }
 
 bool CoreRegistrationStage::add_points(const PointBlock& block) {
@@ -389,6 +389,8 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);
   for (int k = 0; k < 3; ++k) out.correction_w_m[k] = static_cast<float>(result.correction_w[k]);
   out.points_used = static_cast<std::int32_t>(result.points_registered);
+  out.map_points = static_cast<std::int32_t>(result.map_points);
+  out.map_points_seen_through = static_cast<std::int32_t>(result.map_points_seen_through);
 
   const PointCloud& reading = registration_.reading();
   if (result.points_downsampled > 0 && !reading.sigma_s_m.empty()) {
@@ -400,7 +402,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   }
   const StageTimings& t = result.timings;
   const double stages_s[] = {t.deskew_s,         t.downsample_s, t.normals_s,   t.weights_s,
-                             t.icp_matching_s, t.icp_solve_s,  t.map_update_s};
+                             t.icp_matching_s, t.icp_solve_s,  t.seen_through_s, t.map_update_s};
   out.num_stages = static_cast<std::uint8_t>(std::size(stages_s));
   for (std::size_t i = 0; i < std::size(stages_s); ++i) out.stage_ms[i] = static_cast<float>(stages_s[i] * 1e3);
 }

@@ -23,6 +23,12 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.map.max_sigma_s_m = config.map.max_sigma_m;
   p.map.voxel_size_m = config.map.voxel_size_m;
   p.map.max_points_per_voxel = static_cast<std::size_t>(config.map.points_per_voxel);
+  p.seen_through.enabled = config.map.remove_seen_through;
+  p.seen_through.beam_radius_m = config.map.seen_through_beam_radius_m;
+  p.seen_through.margin_m = config.map.seen_through_margin_m;
+  p.seen_through.max_range_m = config.map.seen_through_max_range_m;
+  p.seen_through.max_expected_error_m = config.map.seen_through_max_expected_error_m;
+  p.seen_through.beam_stride = static_cast<std::size_t>(config.map.seen_through_beam_stride);
 
   p.icp.max_match_distance_m = r.max_match_distance_m;
   p.icp.match_k = r.match_k;

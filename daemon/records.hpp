@@ -95,6 +95,8 @@ struct RegistrationRecord {
   bool deskew = true;
   std::int32_t points_in = 0;
   std::int32_t points_used = 0;
+  std::int32_t map_points = 0;              // in the local map after the scan
+  std::int32_t map_points_seen_through = 0;  // removed from the map: the scan's beams passed through them
   float sigma_s_median_m = 0.0f;
   float sigma_s_max_m = 0.0f;
   std::int64_t scan_complete_steady_ns = 0;  // when the scan's last packet was taken (for latency)

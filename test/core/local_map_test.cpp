@@ -88,6 +88,46 @@ TEST(LocalMap, RemovesExactlyTheVoxelsOutsideTheRadius) {
   EXPECT_EQ(map.size(), before);
 }
 
+TEST(LocalMap, RemovedPointsGoAndEveryOtherPointKeepsItsData) {
+  // Voxels of 1 m hold 1 to 40 points over 3 chunks; some lose a few, one all.
+  LocalMap map(LocalMapParams{.voxel_size_m = 1.0, .min_point_distance_m = 0.0});
+  std::vector<Eigen::Vector3d> pts;
+  for (int v = 0; v < 4; ++v)
+    for (int i = 0; i < (v == 3 ? 1 : 40); ++i) pts.emplace_back(v + 0.02 * i + 0.01, 0.5, 0.5);
+  PointCloud cloud = cloud_of(pts);
+  for (std::size_t i = 0; i < pts.size(); ++i) cloud.sigma_s_m[i] = 0.001 * static_cast<double>(i);
+  ASSERT_EQ(map.insert(cloud, Eigen::Isometry3d::Identity()).inserted, pts.size());
+  auto index_at = [&](const Eigen::Vector3d& p) {
+    Neighbour nn;
+    EXPECT_EQ(map.knn(p, 1e-6, std::span<Neighbour>(&nn, 1)), 1u);
+    return nn.index;
+  };
+  // Voxel 0: its first, a middle and its last point; voxel 1: every point
+  // but one (twice over: duplicates count once); voxel 3: its only point.
+  std::vector<Eigen::Vector3d> doomed_points{pts[0], pts[17], pts[39], pts[120]};
+  for (int i = 40; i < 79; ++i) doomed_points.push_back(pts[static_cast<std::size_t>(i)]);
+  std::vector<std::uint32_t> doomed;
+  for (const auto& p : doomed_points) doomed.push_back(index_at(p));
+  doomed.push_back(doomed.back());
+  EXPECT_EQ(map.remove_points(doomed), doomed_points.size());
+  EXPECT_EQ(map.size(), pts.size() - doomed_points.size());
+  EXPECT_EQ(map.voxel_count(), 3u);
+  std::vector<std::pair<double, double>> kept;  // x and the σ it went in with
+  map.for_each_point([&](const Eigen::Vector3d& p_w, const MapPoint& p) { kept.emplace_back(p_w.x(), p.variance_m2); });
+  std::sort(kept.begin(), kept.end());
+  std::vector<std::pair<double, double>> expected;
+  for (std::size_t i = 0; i < pts.size(); ++i) {
+    if (std::find(doomed_points.begin(), doomed_points.end(), pts[i]) != doomed_points.end()) continue;
+    expected.emplace_back(pts[i].x(), cloud.sigma_n_m[i] * cloud.sigma_n_m[i] + cloud.sigma_s_m[i] * cloud.sigma_s_m[i]);
+  }
+  EXPECT_EQ(kept, expected);
+  for (const auto& [x, variance] : expected) EXPECT_DOUBLE_EQ(map.position(index_at({x, 0.5, 0.5})).x(), x);
+  // The freed chunks and the emptied voxel are reused: the points go back in.
+  EXPECT_EQ(map.insert(cloud_of(doomed_points), Eigen::Isometry3d::Identity()).inserted, doomed_points.size());
+  EXPECT_EQ(map.size(), pts.size());
+  EXPECT_EQ(map.voxel_count(), 4u);
+}
+
 TEST(LocalMap, KnnMatchesBruteForce) {
   LocalMap map(LocalMapParams{.voxel_size_m = 0.3, .min_point_distance_m = 0.0});
   std::mt19937 rng(5);

@@ -155,6 +155,7 @@ TEST(Odometry, InjectedClockTimesEveryStage) {
   // points after it.
   EXPECT_NEAR(t.normals_s, 2 * ms, tolerance);
   EXPECT_NEAR(t.weights_s, 2 * ms, tolerance);
+  EXPECT_NEAR(t.seen_through_s, ms, tolerance);
   EXPECT_NEAR(t.map_update_s, 2 * ms, tolerance);
   // ICP reads the clock when it starts, then after matching and after solving
   // in every iteration; the stage also covers its start and end.
@@ -163,8 +164,8 @@ TEST(Odometry, InjectedClockTimesEveryStage) {
   EXPECT_NEAR(t.registration_s, t.icp_matching_s + t.icp_solve_s + 2 * ms, tolerance);
   EXPECT_NEAR(t.fuser_correction_s, ms, tolerance);
   EXPECT_NEAR(t.total_s,
-              t.deskew_s + t.downsample_s + t.normals_s + t.weights_s + t.registration_s + t.map_update_s +
-                  t.fuser_correction_s,
+              t.deskew_s + t.downsample_s + t.normals_s + t.weights_s + t.registration_s + t.seen_through_s +
+                  t.map_update_s + t.fuser_correction_s,
               tolerance);
 }
 

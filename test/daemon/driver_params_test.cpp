@@ -21,6 +21,30 @@ TEST(OdometryParamsFromConfig, ReadingNormalsKeysReachTheCore) {
   EXPECT_EQ(p.reading_normals.k, 12);
 }
 
+TEST(OdometryParamsFromConfig, SeenThroughKeysReachTheCore) {
+  const OdometryParams defaults = odometry_params(DaemonConfig{});
+  EXPECT_TRUE(defaults.seen_through.enabled);
+  EXPECT_DOUBLE_EQ(defaults.seen_through.beam_radius_m, SeenThroughParams{}.beam_radius_m);
+  EXPECT_DOUBLE_EQ(defaults.seen_through.margin_m, SeenThroughParams{}.margin_m);
+  EXPECT_DOUBLE_EQ(defaults.seen_through.max_range_m, SeenThroughParams{}.max_range_m);
+  EXPECT_DOUBLE_EQ(defaults.seen_through.max_expected_error_m, SeenThroughParams{}.max_expected_error_m);
+  EXPECT_EQ(defaults.seen_through.beam_stride, SeenThroughParams{}.beam_stride);
+
+  const DaemonConfig config = load_config(
+      "map:\n  remove_seen_through: false\n  seen_through_beam_radius_m: 0.07\n  seen_through_margin_m: 0.8\n"
+      "  seen_through_max_range_m: 12\n  seen_through_max_expected_error_m: 0.05\n"
+      "  seen_through_beam_stride: 3\n",
+      "test.yaml");
+  const OdometryParams p = odometry_params(config);
+  EXPECT_FALSE(p.seen_through.enabled);
+  EXPECT_DOUBLE_EQ(p.seen_through.beam_radius_m, 0.07);
+  EXPECT_DOUBLE_EQ(p.seen_through.margin_m, 0.8);
+  EXPECT_DOUBLE_EQ(p.seen_through.max_range_m, 12.0);
+  EXPECT_DOUBLE_EQ(p.seen_through.max_expected_error_m, 0.05);
+  EXPECT_EQ(p.seen_through.beam_stride, 3u);
+  EXPECT_THROW(load_config("map:\n  seen_through_beam_radius_m: 0\n", "test.yaml"), ConfigError);
+}
+
 TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
   EXPECT_DOUBLE_EQ(scan_assembler_config(LidarConfig{}).min_scan_coverage, 0.9);
   const DaemonConfig config = load_config("lidar:\n  min_scan_coverage: 0.5\n  split_azimuth_deg: 90\n", "test.yaml");
