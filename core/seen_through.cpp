@@ -10,9 +10,8 @@ namespace tumble {
 
 namespace {
 
-// f(cell, t_in, t_out) for every cell of size 1/inv_cell the segment a→b
-// passes through, from a's, with the stretch of the segment inside it (a at
-// t = 0, b at 1); Amanatides & Woo's traversal.
+// f(cell) for every cell of size 1/inv_cell the segment a→b passes through,
+// from a's (Amanatides & Woo's traversal).
 template <class F>
 void for_each_cell_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double inv_cell, F&& f) {
   CellKey cell = cell_of(a, inv_cell);
@@ -31,14 +30,11 @@ void for_each_cell_on_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b
   }
   const std::int64_t cells = std::int64_t{1} + std::abs(std::int64_t{last.x} - cell.x) +
                              std::abs(std::int64_t{last.y} - cell.y) + std::abs(std::int64_t{last.z} - cell.z);
-  double t_in = 0;
   for (std::int64_t visited = 0; visited < cells; ++visited) {
+    f(cell);
     const int k = t_next[0] < t_next[1] ? (t_next[0] < t_next[2] ? 0 : 2) : (t_next[1] < t_next[2] ? 1 : 2);
-    const double t_out = std::min(t_next[k], 1.0);
-    f(cell, t_in, t_out);
     if (t_next[k] > 1.0) return;
     *coord[k] += step[k];
-    t_in = t_next[k];
     t_next[k] += t_delta[k];
   }
 }
@@ -87,6 +83,7 @@ std::size_t SeenThroughRemover::remove(LocalMap& map, std::span<const MapBeam> b
           beam.end_normal_w.squaredNorm() > 0.5 && std::abs(beam.end_normal_w.dot(dir)) < params_.grazing_cos;
       const Eigen::Vector3d from = beam.origin_w + params_.min_range_m * dir;
       const Eigen::Vector3d to = beam.origin_w + reach * dir;
+      const Eigen::Vector3d r = Eigen::Vector3d::Constant(params_.beam_radius_m);
       // Whether the beam passed through map point `index` at p, and nothing says it is still there.
       auto seen_through = [&](std::uint32_t index, const Eigen::Vector3d& p) {
         const Eigen::Vector3d v = p - beam.origin_w;
@@ -98,12 +95,25 @@ std::size_t SeenThroughRemover::remove(LocalMap& map, std::span<const MapBeam> b
         const PlaneFit surface = searched.surface_at(index, neighbours_[worker]);
         return !(surface.valid && std::abs(surface.normal.dot(dir)) < params_.grazing_cos);
       };
-      // The cells the beam's line crosses, and in each only the points near
-      // its stretch there; a point within the beam radius but across a cell
-      // face the line does not cross is left to other beams.
-      const Eigen::Vector3d r = Eigen::Vector3d::Constant(params_.beam_radius_m);
-      for_each_cell_on_segment(from, to, inv_cell, [&](const CellKey& key, double t_in, double t_out) {
-        const Eigen::Vector3d enter = from + t_in * (to - from), leave = from + t_out * (to - from);
+      // The cells the beam's line crosses; in each, the points near the
+      // stretch of the line inside the cell grown by the beam radius (a
+      // point's nearest place on the line may lie in the next cell). A point
+      // within the radius in a cell the line does not cross is left to
+      // other beams.
+      const double cell_m = map.params().voxel_size_m;
+      for_each_cell_on_segment(from, to, inv_cell, [&](const CellKey& key) {
+        const Eigen::Vector3d lo = Eigen::Vector3d(key.x, key.y, key.z) * cell_m - r;
+        const Eigen::Vector3d hi = lo + Eigen::Vector3d::Constant(cell_m + 2 * params_.beam_radius_m);
+        double t0 = 0, t1 = 1;
+        for (int k = 0; k < 3; ++k) {
+          const double step = to[k] - from[k];
+          if (step == 0) continue;  // inside the slab: the line crosses the cell
+          const double a = (lo[k] - from[k]) / step, b = (hi[k] - from[k]) / step;
+          t0 = std::max(t0, std::min(a, b));
+          t1 = std::min(t1, std::max(a, b));
+        }
+        if (t0 > t1) return;
+        const Eigen::Vector3d enter = from + t0 * (to - from), leave = from + t1 * (to - from);
         searched.for_each_point_in_cell(key, enter.cwiseMin(leave) - r, enter.cwiseMax(leave) + r,
                                         [&](std::uint32_t index, const Eigen::Vector3d& p) {
                                           if (seen_through(index, p)) found.push_back(index);

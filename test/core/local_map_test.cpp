@@ -103,15 +103,17 @@ TEST(LocalMap, RemovedPointsGoAndEveryOtherPointKeepsItsData) {
     return nn.index;
   };
   // Voxel 0: its first, a middle and its last point; voxel 1: every point
-  // but one (twice over: duplicates count once); voxel 3: its only point.
+  // but one (twice over: duplicates count once); voxel 2: all 40, over 3
+  // chunks; voxel 3: its only point.
   std::vector<Eigen::Vector3d> doomed_points{pts[0], pts[17], pts[39], pts[120]};
   for (int i = 40; i < 79; ++i) doomed_points.push_back(pts[static_cast<std::size_t>(i)]);
+  for (int i = 80; i < 120; ++i) doomed_points.push_back(pts[static_cast<std::size_t>(i)]);
   std::vector<std::uint32_t> doomed;
   for (const auto& p : doomed_points) doomed.push_back(index_at(p));
   doomed.push_back(doomed.back());
   EXPECT_EQ(map.remove_points(doomed), doomed_points.size());
   EXPECT_EQ(map.size(), pts.size() - doomed_points.size());
-  EXPECT_EQ(map.voxel_count(), 3u);
+  EXPECT_EQ(map.voxel_count(), 2u);
   std::vector<std::pair<double, double>> kept;  // x and the σ it went in with
   map.for_each_point([&](const Eigen::Vector3d& p_w, const MapPoint& p) { kept.emplace_back(p_w.x(), p.variance_m2); });
   std::sort(kept.begin(), kept.end());
@@ -122,6 +124,17 @@ TEST(LocalMap, RemovedPointsGoAndEveryOtherPointKeepsItsData) {
   }
   EXPECT_EQ(kept, expected);
   for (const auto& [x, variance] : expected) EXPECT_DOUBLE_EQ(map.position(index_at({x, 0.5, 0.5})).x(), x);
+  // A box search sees exactly the points left (the voxels' bounds shrank with them).
+  for (int v = 0; v < 4; ++v) {
+    std::vector<double> in_box;
+    map.for_each_point_in_cell(CellKey{v, 0, 0}, Eigen::Vector3d(v + 0.1, 0.4, 0.4), Eigen::Vector3d(v + 0.8, 0.6, 0.6),
+                               [&](std::uint32_t, const Eigen::Vector3d& p) { in_box.push_back(p.x()); });
+    std::sort(in_box.begin(), in_box.end());
+    std::vector<double> expected_in_box;
+    for (const auto& [x, variance] : expected)
+      if (x >= v + 0.1 && x <= v + 0.8) expected_in_box.push_back(x);
+    EXPECT_EQ(in_box, expected_in_box) << "voxel " << v;
+  }
   // The freed chunks and the emptied voxel are reused: the points go back in.
   EXPECT_EQ(map.insert(cloud_of(doomed_points), Eigen::Isometry3d::Identity()).inserted, doomed_points.size());
   EXPECT_EQ(map.size(), pts.size());

@@ -2,8 +2,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
+#include <thread>
 #include <vector>
 
 #include "test/core/cloud_of.hpp"
@@ -160,23 +163,47 @@ TEST(SeenThrough, AnEdgeTheScanStillSeesStays) {
   EXPECT_EQ(count_near(gone, face), face.size());
 }
 
-TEST(SeenThrough, TheResultIsTheSameOnAnyNumberOfThreads) {
+TEST(SeenThrough, APointNearTheBeamWhoseNearestPlaceOnItIsInTheNextCellGoes) {
+  // Cells of 0.5 m. Heading (1, 1, 0)/√2, the beam enters cell (0, 0, 0) at
+  // (0.49, 0, 0.25) and leaves it at (0.5, 0.01, 0.25). The point (0.43, 0,
+  // 0.25), in that cell, is 4.2 cm from the beam, nearest to (0.46, -0.03,
+  // 0.25) in the cell the beam came from, whose points it does not look at.
+  const Eigen::Vector3d dir = Eigen::Vector3d(1, 1, 0).normalized();
+  const Eigen::Vector3d on_line(0.49, 0, 0.25);
+  const MapBeam beam{on_line - 2 * dir, on_line + 5 * dir, Eigen::Vector3d::Zero()};
+  LocalMap map = map_of({{Eigen::Vector3d(0.43, 0, 0.25)}});
+  EXPECT_EQ(remove_with(SeenThroughParams{}, map, {beam}), 1u);
+}
+
+TEST(SeenThrough, TheSamePointsGoOnAnyNumberOfThreads) {
+  // Beams to the wall's left half only: part of the person goes.
   const WallAndPerson scene = wall_and_person();
-  std::vector<MapBeam> beams = beams_to(scene.wall, Eigen::Vector3d(-1, 0, 0));
-  class Halves : public ParallelRunner {
+  std::vector<Eigen::Vector3d> left_half;
+  for (const auto& p : scene.wall)
+    if (p.y() < 0) left_half.push_back(p);
+  const std::vector<MapBeam> beams = beams_to(left_half, Eigen::Vector3d(-1, 0, 0));
+  const std::vector<Eigen::Vector3d> returns = ends_of(beams);
+  class TwoThreads : public ParallelRunner {
    public:
     std::size_t workers() const override { return 2; }
     void run(std::size_t n, RangeTask task) override {
-      task(1, n / 2, n);
+      std::thread helper([&] { task(1, n / 2, n); });
       task(0, 0, n / 2);
+      helper.join();
     }
-  } halves;
-  LocalMap serial = map_of({scene.wall, scene.person});
-  LocalMap split = map_of({scene.wall, scene.person});
-  const std::vector<Eigen::Vector3d> returns = ends_of(beams);
-  EXPECT_EQ(SeenThroughRemover(SeenThroughParams{}).remove(serial, beams, returns),
-            SeenThroughRemover(SeenThroughParams{}, halves).remove(split, beams, returns));
-  EXPECT_EQ(serial.size(), split.size());
+  } two_threads;
+  auto survivors = [&](ParallelRunner& runner) {
+    LocalMap map = map_of({scene.wall, scene.person});
+    SeenThroughRemover(SeenThroughParams{}, runner).remove(map, beams, returns);
+    std::vector<std::array<double, 3>> kept;
+    map.for_each_point([&](const Eigen::Vector3d& p, const MapPoint&) { kept.push_back({p.x(), p.y(), p.z()}); });
+    std::sort(kept.begin(), kept.end());
+    return kept;
+  };
+  const auto serial = survivors(serial_runner());
+  EXPECT_LT(serial.size(), scene.wall.size() + scene.person.size());
+  EXPECT_GT(serial.size(), scene.wall.size());
+  EXPECT_EQ(survivors(two_threads), serial);
 }
 
 TEST(SeenThrough, ParametersOutOfRangeAreNamed) {
