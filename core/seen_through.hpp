@@ -43,7 +43,7 @@ struct SeenThroughParams {
   // apart. Ours: on a simulated cage run with four walkers and the rope
   // puller (test/core_sim/seen_through_sim_test.cpp, beam_stride 2), 3 cm
   // left 30 % of the walkers' stale points and 16 % of the puller's, 5 cm
-  // 13 % and 6 %.
+  // 13 % and 7 %.
   double beam_radius_m = 0.05;
   double margin_m = 0.5;
   double min_range_m = 0.4;  // the RS-16's minimum range: nearer, the beam saw nothing
