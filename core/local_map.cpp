@@ -222,24 +222,21 @@ void LocalMap::drop_voxel(tsl::robin_map<CellKey, std::uint32_t, CellKeyHash>::i
   occupancy_.remove(key);
 }
 
-std::size_t LocalMap::remove_points(std::vector<std::uint32_t>& indices) {
-  std::sort(indices.begin(), indices.end());
-  indices.erase(std::unique(indices.begin(), indices.end()), indices.end());
-  // Grouped by voxel, each group's indices in order (what compact_voxel() reads).
+std::size_t LocalMap::remove_points(std::span<const std::uint32_t> indices) {
+  // (slot, index), sorted and deduplicated: each voxel's doomed points are
+  // one run, in index order (what compact_voxel() searches).
   doomed_points_.clear();
   for (const std::uint32_t index : indices)
     doomed_points_.push_back({cell_slot_.find(cell_of(position(index), inv_voxel_))->second, index});
   std::sort(doomed_points_.begin(), doomed_points_.end());
+  doomed_points_.erase(std::unique(doomed_points_.begin(), doomed_points_.end()), doomed_points_.end());
   std::size_t removed = 0;
-  for (std::size_t begin = 0; begin < doomed_points_.size();) {
-    const std::uint32_t slot = doomed_points_[begin].first;
-    std::size_t end = begin;
-    voxel_doomed_.clear();
-    for (; end < doomed_points_.size() && doomed_points_[end].first == slot; ++end)
-      voxel_doomed_.push_back(doomed_points_[end].second);
-    removed += compact_voxel(slot, voxel_doomed_);
+  for (auto run = doomed_points_.begin(); run != doomed_points_.end();) {
+    const std::uint32_t slot = run->first;
+    const auto run_end = std::find_if(run, doomed_points_.end(), [&](const auto& d) { return d.first != slot; });
+    removed += compact_voxel(slot, std::span(run, run_end));
     if (slots_[slot].count == 0) drop_voxel(cell_slot_.find(slots_[slot].key));
-    begin = end;
+    run = run_end;
   }
   point_count_ -= removed;
   return removed;
@@ -247,7 +244,7 @@ std::size_t LocalMap::remove_points(std::vector<std::uint32_t>& indices) {
 
 // Moves the voxel's surviving points to its front, in order, and frees the
 // chunks left empty behind them.
-std::size_t LocalMap::compact_voxel(std::uint32_t slot, std::span<const std::uint32_t> doomed_sorted) {
+std::size_t LocalMap::compact_voxel(std::uint32_t slot, std::span<const std::pair<std::uint32_t, std::uint32_t>> doomed) {
   Slot& voxel = slots_[slot];
   voxel_chunks_.clear();
   for (std::uint32_t c = voxel.first_chunk, left = voxel.count; left > 0; c = chunk(c).next) {
@@ -260,7 +257,7 @@ std::size_t LocalMap::compact_voxel(std::uint32_t slot, std::span<const std::uin
   voxel.hi.setConstant(-std::numeric_limits<float>::infinity());
   for (std::uint32_t k = 0; k < voxel.count; ++k) {
     const std::uint32_t from = index_of(k);
-    if (std::binary_search(doomed_sorted.begin(), doomed_sorted.end(), from)) continue;
+    if (std::binary_search(doomed.begin(), doomed.end(), std::pair{slot, from})) continue;
     extend_bounds(voxel, position(from));
     const std::uint32_t to = index_of(kept++);
     if (to == from) continue;

@@ -87,10 +87,10 @@ class LocalMap {
   // Drops every voxel whose centre is farther than radius_m from centre_w.
   std::size_t remove_far_from(const Eigen::Vector3d& centre_w);
 
-  // Drops the points of `indices` (sorted and deduplicated in place); returns
-  // how many went. Every other point keeps its data, but indices of points
-  // that shared a voxel with a dropped one change.
-  std::size_t remove_points(std::vector<std::uint32_t>& indices);
+  // Drops the points of `indices` (repeats allowed); returns how many went.
+  // Every other point keeps its data, but indices of points that shared a
+  // voxel with a dropped one change.
+  std::size_t remove_points(std::span<const std::uint32_t> indices);
 
   // f(index, position_w) for every point of the cell `key` (voxel_size_m
   // cells) inside the box [lo, hi].
@@ -210,7 +210,8 @@ class LocalMap {
     }
   }
   void drop_voxel(tsl::robin_map<CellKey, std::uint32_t, CellKeyHash>::iterator it);
-  std::size_t compact_voxel(std::uint32_t slot, std::span<const std::uint32_t> doomed_sorted);
+  // `doomed`: the voxel's (slot, index) pairs from remove_points(), sorted.
+  std::size_t compact_voxel(std::uint32_t slot, std::span<const std::pair<std::uint32_t, std::uint32_t>> doomed);
 
   LocalMapParams params_;
   ParallelRunner* runner_;
@@ -226,10 +227,9 @@ class LocalMap {
   std::uint32_t insert_count_ = 0;
   std::vector<std::uint8_t> is_candidate_;  // per point of find_insert_candidates()
   std::vector<CellKey> doomed_;
-  // remove_points()'s scratch: (slot, index) of the doomed points, one voxel's
-  // doomed indices, that voxel's chunks in order.
+  // remove_points()'s scratch: (slot, index) of the doomed points, and one
+  // voxel's chunks in order.
   std::vector<std::pair<std::uint32_t, std::uint32_t>> doomed_points_;
-  std::vector<std::uint32_t> voxel_doomed_;
   std::vector<std::uint32_t> voxel_chunks_;
 };
 

@@ -47,7 +47,7 @@ sim::Scenario cage_among_people() {
 std::vector<std::size_t> stale_people_points(const sim::SimRun& run, const LocalMap& map,
                                              const std::vector<double>& scan_times_s, const LocalMap& without_people) {
   const sim::People& people = run.people();
-  const double epoch_s = 1e-9 * static_cast<double>(run.scenario().epoch_ns);
+  const double epoch_s = test::epoch_s(run);
   const double radius_m = run.scenario().people.radius_m;
   const double t_end_s = scan_times_s.back() - epoch_s;
   std::vector<std::size_t> stale(people.count(), 0);

@@ -16,6 +16,9 @@
 
 namespace tumble::test {
 
+// The driver's clock at the run's time 0: scan times minus this are run times.
+inline double epoch_s(const sim::SimRun& run) { return 1e-9 * static_cast<double>(run.scenario().epoch_ns); }
+
 // Every complete revolution of the run, the first (which may have started mid-revolution) left out.
 inline std::vector<Scan> simulate_scans(const sim::SimRun& run) {
   std::vector<Scan> scans;
@@ -25,11 +28,11 @@ inline std::vector<Scan> simulate_scans(const sim::SimRun& run) {
   });
   sim::LidarStream stream = run.lidar_stream();
   sim::LidarDatagram datagram;
-  const double epoch_s = 1e-9 * static_cast<double>(run.scenario().epoch_ns);
+  const double epoch = epoch_s(run);
   while (stream.next(datagram)) {
     rs16::LidarDatagram d;
     d.kind = datagram.is_difop ? rs16::PacketKind::Difop : rs16::PacketKind::Msop;
-    d.arrival_s = epoch_s + 1e-9 * static_cast<double>(datagram.arrival_ns);
+    d.arrival_s = epoch + 1e-9 * static_cast<double>(datagram.arrival_ns);
     d.payload = datagram.payload;
     driver.on_datagram(d);
   }
@@ -37,9 +40,9 @@ inline std::vector<Scan> simulate_scans(const sim::SimRun& run) {
   return scans;
 }
 
-// The simulator's motion at a scan time (the driver's clock: the run's epoch + run time).
+// The simulator's motion at a scan time.
 inline sim::MotionState truth_at(const sim::SimRun& run, double t_s) {
-  return run.motion().at(t_s - 1e-9 * static_cast<double>(run.scenario().epoch_ns));
+  return run.motion().at(t_s - epoch_s(run));
 }
 
 struct GroundTruthReplay {
