@@ -137,6 +137,8 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   } else if (any(entry.accel_clipped)) {
     madgwick_.propagate(entry.gyro_i, dt);
     ++stats_.accel_gated;
+  } else if (!accelerometer_levels(sample.t_s)) {
+    madgwick_.propagate(entry.gyro_i, dt);
   } else if (!madgwick_.update(entry.gyro_i, entry.accel_i, dt)) {
     ++stats_.accel_gated;
   }
@@ -263,6 +265,10 @@ ImuFuser::KinematicState ImuFuser::state_at(double t_s) const {
   return state;
 }
 
+bool ImuFuser::accelerometer_levels(double t_s) const {
+  return !(newest_levelling_s_ && t_s - *newest_levelling_s_ <= params_.accel_correction_after_s);
+}
+
 Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
   if (t_s <= history_.front().t_s) return history_.front().q_wi;
   const std::size_t j = entry_before(t_s);
@@ -273,7 +279,8 @@ Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
 }
 
 CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
-                                                        double position_sigma_m) {
+                                                        double position_sigma_m, bool map_start,
+                                                        double expected_error_m) {
   CorrectionResult result;
   if (!initialized_) {
     ++stats_.corrections_before_init;
@@ -302,6 +309,9 @@ CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, c
   reset.correction = (q_wi_registered * attitude_at(t_scan_start_s).conjugate()).normalized();
   reset.q_wi = q_wi_registered;
   reset.p_wi = T_wl * params_.T_li.translation();
+  if (!map_start && expected_error_m <= params_.levelling_max_expected_error_m) {
+    newest_levelling_s_ = std::max(newest_levelling_s_.value_or(t_scan_start_s), t_scan_start_s);
+  }
 
   std::optional<VelocityMeasurement> velocity;
   if (previous_registration_) {
@@ -342,8 +352,9 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
   bool velocity_pending = velocity.has_value();
   bool reset_pending = true;
   trajectory_.truncate_after(t);
-  // After the reset the attitude is rebuilt step by step: Madgwick's step
-  // where the gyro was not clipped, the newest lidar rate where it was.
+  // After the reset the attitude is rebuilt step by step: the gyro alone
+  // where the accelerometer is left out (header, 2), else Madgwick's step
+  // as taken, and the newest lidar rate where the gyro was clipped.
   std::optional<Eigen::Quaterniond> previous_q_before, previous_q_after;
 
   for (std::size_t n = base + 1; n < history_.size(); ++n) {
@@ -352,10 +363,17 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     const Eigen::Vector3d accel_previous = accel_at_t;
     if (entry.t_s >= reset.t_s) {
       const Eigen::Quaterniond q_before = entry.q_wi;
+      // The accelerometer may have stepped this sample before the correction
+      // came; where it is left out, the gyro alone rebuilds it (header, 2).
+      const bool gyro_alone = !params_.attitude_from_device && !accelerometer_levels(entry.t_s);
       if (!previous_q_after) {
-        entry.q_wi = (reset.correction * q_before).normalized();
+        entry.q_wi = gyro_alone && !any(entry.gyro_clipped)
+                         ? integrate_body_rate(reset.q_wi, entry.gyro_i, entry.t_s - reset.t_s)
+                         : (reset.correction * q_before).normalized();
       } else if (any(entry.gyro_clipped)) {
         entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
+        entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
+      } else if (gyro_alone) {
         entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
       } else {
         entry.q_wi = (*previous_q_after * (previous_q_before->conjugate() * q_before)).normalized();

@@ -14,7 +14,21 @@
 //    gyro bias.
 // 2. Attitude: Madgwick (gyro + gated accelerometer) at every sample, or the
 //    device's own orientation when `attitude_from_device` (aligned to W once,
-//    at the first sample that carries one).
+//    at the first sample that carries one). Ours: the accelerometer's step is
+//    left out while a scan registered on a map, within
+//    `levelling_max_expected_error_m`, levelled the attitude less than
+//    `accel_correction_after_s` before the sample; the gyro alone
+//    carries it from one registration to the next (0.01° of drift in 0.1 s).
+//    The accelerometer measures gravity only when nothing accelerates the
+//    IMU: a turntable's centripetal 1.6 m/s² (4 rad/s, 0.1 m off the axis)
+//    passes the gate, leans Madgwick's "up" by 9° and its step pulls the
+//    attitude that way by 0.57° per scan, which the de-skew carries into
+//    every point. Without such registrations (before the first map, lost,
+//    the lidar silent, a scan that pins the pose only weakly and may turn it
+//    wrongly: a corridor) the accelerometer is the only tilt reference and
+//    levels it as in the paper. The rule goes by data time, and a correction takes
+//    the gyro alone again for the samples after it that were stepped before
+//    it arrived, so the result does not depend on thread timing.
 // 3. Velocity: a linear Kalman filter per W axis: state v, input the
 //    gravity-free acceleration a_W = R_WI f + g (trapezoid), process noise
 //    PSD = accel_noise_density² + accel_unmodelled² · 1 s. The second term is
@@ -101,6 +115,10 @@ struct ImuFuserParams {
   double static_accel_tolerance_m_s2 = 0.5;     // ‖a − window mean‖ or |‖a‖ − 9.80665| above: motion
 
   MadgwickParams madgwick;
+  // Madgwick's accelerometer step only on samples this long after the newest
+  // scan registered on a map (header, 2); 0: on every sample, as the paper.
+  double accel_correction_after_s = 0.5;
+  double levelling_max_expected_error_m = 0.03;  // registration_confidence.hpp
   bool attitude_from_device = false;
 
   double accel_noise_density_m_s2_sqrt_hz = 60e-6 * kStandardGravity_m_s2;  // MTi-30 datasheet
@@ -153,8 +171,12 @@ class ImuFuser {
   // velocity since the previous registered pose and re-anchors the trajectory
   // (see the header). Call in scan order, after the IMU data covers
   // t_scan_start_s (the pipeline needs that to de-skew anyway).
+  // It levels the attitude (header, 2) unless it starts a new map (map_start:
+  // the prediction itself) or its expected error is above
+  // levelling_max_expected_error_m; it re-anchors either way.
   CorrectionResult correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
-                                                double position_sigma_m);
+                                                double position_sigma_m, bool map_start = false,
+                                                double expected_error_m = 0.0);
 
   bool initialized() const { return initialized_; }
   const Trajectory& trajectory() const { return trajectory_; }
@@ -209,6 +231,8 @@ class ImuFuser {
   std::size_t entry_before(double t_s) const;
   KinematicState state_at(double t_s) const;
   Eigen::Quaterniond attitude_at(double t_s) const;
+  // Whether Madgwick's accelerometer step applies to a sample at t_s (header, 2).
+  bool accelerometer_levels(double t_s) const;
   void repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset);
   TrajectorySample to_trajectory_sample(const HistoryEntry& entry) const;
 
@@ -240,6 +264,7 @@ class ImuFuser {
     double sigma_m = 0.0;
   };
   std::optional<RegisteredPose> previous_registration_;
+  std::optional<double> newest_levelling_s_;  // the newest registration on a map (header, 2)
   std::optional<RegisteredPose> anchor_;           // the newest correction after the newest sample
   std::optional<RegisteredPose> previous_anchor_;  // the one before it
   // Mean IMU body rate between the last two registered poses (header, 6).

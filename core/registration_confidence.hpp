@@ -5,14 +5,16 @@
 // millimetres the map's own error dominates.
 //
 // Calibrated on bench2 (94 runs of `tumble-sim bench --realistic` and its 12
-// people runs, GVTW + de-skew, 16 216 scans) against the true error of each
-// scan's pose increment (with both poses' covariances; `tumble-eval
-// integrity`): κ = 7 and a 3 mm floor give a mean NEES (per degree of
-// freedom) of 0.86 over the runs under 0.5 cm/m and 1.10 over those under
-// 2 cm/m (bench1: 0.91, 0.97). The errors are heavy-tailed: the median NEES
-// is 0.1-0.3.
-// The largest eigenvalue follows the real error: increments whose expected
-// error is 1 cm err by 0.8 cm at the median, 4 cm by 4.6 cm, 8 cm by 31 cm.
+// people runs, GVTW + de-skew) against the true error of each scan's pose
+// increment (with both poses' covariances; `tumble-eval integrity`). Since
+// the attitude is the gyro's alone between scans (imu_fuser.hpp, 2), κ = 4
+// and a 2 mm floor give a mean NEES (per degree of freedom) of 0.51 over the
+// 9 051 increments of the runs under 0.5 cm/m and 1.18 over those under
+// 2 cm/m (bench1: 0.59, 1.71). κ = 7 and 3 mm, chosen with Madgwick's
+// accelerometer step, gave 0.24 and 0.64 there. The errors are heavy-tailed:
+// the median NEES is 0.1.
+// The largest eigenvalue follows the real error (README, Knowing when the
+// pose is wrong).
 #pragma once
 
 #include <Eigen/Core>
@@ -22,8 +24,8 @@
 namespace tumble {
 
 struct RegistrationConfidenceParams {
-  double covariance_scale = 7.0;   // κ: the published covariance is κ²·(ICP covariance) ...
-  double position_floor_m = 0.003; // ... plus this² on the position diagonal
+  double covariance_scale = 4.0;   // κ: the published covariance is κ²·(ICP covariance) ...
+  double position_floor_m = 0.002; // ... plus this² on the position diagonal
 };
 
 // The covariance to publish with a registered pose, over (tx, ty, tz, rx, ry, rz)

@@ -97,6 +97,8 @@ void visit_config(Visitor& v, Config& c) {
     auto& f = c.fuser;
     v.field("madgwick_beta", f.madgwick_beta, Range{0.0, 1.0});
     v.field("accel_gate_m_s2", f.accel_gate_m_s2, Range{0.01, 100.0});
+    v.field("accel_correction_after_s", f.accel_correction_after_s, Range{0.0, 600.0});
+    v.field("levelling_max_expected_error_m", f.levelling_max_expected_error_m, Range{0.0, 10.0});
     v.field("init_static_s", f.init_static_s, Range{0.0, 60.0});
     v.field("attitude_source", f.attitude_source, Choice<AttitudeSource>{kAttitudeSources});
   });

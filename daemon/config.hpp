@@ -69,6 +69,8 @@ struct ImuConfig {
 struct FuserConfig {
   double madgwick_beta = 0.1;
   double accel_gate_m_s2 = 2.0;
+  double accel_correction_after_s = 0.5;
+  double levelling_max_expected_error_m = 0.03;
   double init_static_s = 1.0;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;
@@ -138,7 +140,7 @@ struct HealthConfig {
   int good_scans_to_recover = 5;
   double min_matched_ratio = 0.3;
   double min_degeneracy = 0.001;
-  double max_expected_error_m = 0.045;
+  double max_expected_error_m = 0.03;
   bool operator==(const HealthConfig&) const = default;
 };
 

@@ -142,7 +142,8 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   T_wl.translation() =
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
   const CorrectionResult result =
-      fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m);
+      fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m,
+                                          registration.map_initialised, registration.expected_error_m);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:

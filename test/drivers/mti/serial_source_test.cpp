@@ -35,7 +35,14 @@ TEST(SerialSource, ConfiguresTheDeviceThenDeliversSamples) {
   boost::asio::io_context io;
   PtyDevice device(io);
   std::vector<ImuSample> samples;
-  SerialSource source(io, options_for(device.slave_path(), true), [&](const ImuSample& s) { samples.push_back(s); });
+  // Under load a reply can be handled after the 100 ms (GoToConfig) or 500 ms
+  // retry is due: the command is then sent twice, rightly, and a timeout would
+  // reconnect. Retries are tested in ASilentDeviceFailsConfigurationAndIsRetried;
+  // here they are put out of reach so the exact command sequence is certain.
+  SerialSourceOptions options = options_for(device.slave_path(), true);
+  options.configurator.go_to_config_retry_s = options.configurator.reply_retry_s = 60;
+  options.configurator.go_to_config_timeout_s = options.configurator.reply_timeout_s = 60;
+  SerialSource source(io, options, [&](const ImuSample& s) { samples.push_back(s); });
   source.start();
   ASSERT_TRUE(run_until(io, [&] { return device.measuring() && source.config_step() == ConfigStep::Measuring; }));
   EXPECT_EQ(device.commands(), (std::vector<std::uint8_t>{mid::kGoToConfig, mid::kReqDeviceId, mid::kReqProductCode,
