@@ -370,10 +370,8 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
         entry.q_wi = gyro_alone && !any(entry.gyro_clipped)
                          ? integrate_body_rate(reset.q_wi, entry.gyro_i, entry.t_s - reset.t_s)
                          : (reset.correction * q_before).normalized();
-      } else if (any(entry.gyro_clipped)) {
-        entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
-        entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
-      } else if (gyro_alone) {
+      } else if (any(entry.gyro_clipped) || gyro_alone) {
+        if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
         entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
       } else {
         entry.q_wi = (*previous_q_after * (previous_q_before->conjugate() * q_before)).normalized();

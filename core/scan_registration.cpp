@@ -190,11 +190,12 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
+  result.expected_error_m =
+      expected_position_error_m(published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance));
   lap(timing.registration_s);
 
   if (result.registered && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
-      params_.seen_through.enabled &&
-      expected_position_error_m(published_covariance(result.covariance)) <= params_.seen_through.max_expected_error_m) {
+      params_.seen_through.enabled && result.expected_error_m <= params_.seen_through.max_expected_error_m) {
     // Before the scan's own points go in: they lie at its beams' ends.
     // Every beam_stride-th registered point casts a beam, the others on the next scans.
     const std::size_t stride = params_.seen_through.beam_stride;

@@ -108,6 +108,9 @@ struct ScanResult {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           // fused lidar velocity at t_scan_start_s
   Matrix6d covariance = Matrix6d::Identity();              // IcpResult::covariance
   double position_sigma_m = 0;   // what the fuser's velocity filter is told
+  // Of the published covariance (registration_confidence.hpp); set once ICP
+  // has run (the first scan of a map: its floor).
+  double expected_error_m = 0;
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used
