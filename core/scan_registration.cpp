@@ -46,9 +46,13 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       icp_(icp_params_for(params), clock_, runner),
       map_(params.map, runner),
       seen_through_(params.seen_through, runner),
+      unobserved_direction_(params.unobserved),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
-void ScanRegistration::reset_map() { map_ = LocalMap(params_.map, runner_); }
+void ScanRegistration::reset_map() {
+  map_ = LocalMap(params_.map, runner_);
+  unobserved_direction_.reset();
+}
 
 ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result) {
   return process(scan, trajectory, result, ScanConditions{.deskew = params_.deskew});
@@ -190,12 +194,17 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
-  result.expected_error_m =
-      expected_position_error_m(published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance));
+  result.covariance_published = published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance);
+  result.expected_error_pinned_m = expected_position_error_m(result.covariance_published);
+  if (result.registered && !result.map_initialised) {
+    result.direction_unobserved = unobserved_direction_.add(result.degeneracy);
+    if (result.direction_unobserved) unobserved_direction_.widen(result.covariance_published, result.degeneracy);
+  }
+  result.expected_error_m = expected_position_error_m(result.covariance_published);
   lap(timing.registration_s);
 
   if (result.registered && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
-      params_.seen_through.enabled && result.expected_error_m <= params_.seen_through.max_expected_error_m) {
+      params_.seen_through.enabled && result.expected_error_pinned_m <= params_.seen_through.max_expected_error_m) {
     // Before the scan's own points go in: they lie at its beams' ends.
     // Every beam_stride-th registered point casts a beam, the others on the next scans.
     const std::size_t stride = params_.seen_through.beam_stride;

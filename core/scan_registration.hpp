@@ -18,10 +18,12 @@
 #include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 #include "core/point_weights.hpp"
+#include "core/registration_confidence.hpp"
 #include "core/scan_line_normals.hpp"
 #include "core/seen_through.hpp"
 #include "core/trajectory.hpp"
 #include "core/types.hpp"
+#include "core/unobserved_direction.hpp"
 #include "core/voxel_grid.hpp"
 
 namespace tumble {
@@ -65,6 +67,9 @@ struct OdometryParams {
   // measured trajectory (the beams' geometry is known only then) and
   // registered within seen_through.max_expected_error_m.
   SeenThroughParams seen_through;
+  // A direction weak in most recent scans is published as unobserved
+  // (unobserved_direction.hpp), with a wide covariance along it.
+  UnobservedDirectionParams unobserved;
   // Registration: max_match_distance_m 1, match_k 1, FRMSD 0.5/0.7/2.35,
   // max_iterations 40, convergence. `icp.weighting` is set from the weight
   // model (SAW: the point's weight; the others: inverse variance).
@@ -108,9 +113,16 @@ struct ScanResult {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           // fused lidar velocity at t_scan_start_s
   Matrix6d covariance = Matrix6d::Identity();              // IcpResult::covariance
   double position_sigma_m = 0;   // what the fuser's velocity filter is told
-  // Of the published covariance (registration_confidence.hpp); set once ICP
-  // has run (the first scan of a map: its floor).
+  // The covariance to publish (registration_confidence.hpp, widened along an
+  // unobserved direction) and its expected error; set once ICP has run (the
+  // first scan of a map: the floor alone).
+  Matrix6d covariance_published = published_covariance(Matrix6d::Identity());
   double expected_error_m = 0;
+  bool direction_unobserved = false;  // UnobservedDirection: a direction the recent scans have not pinned
+  // The expected error before the widening: what the seen-through gate and
+  // the fuser's levelling go by. A corridor pins the attitude and the
+  // position across it; those uses keep their behaviour there.
+  double expected_error_pinned_m = 0;
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used
@@ -192,6 +204,7 @@ class ScanRegistration {
   Icp icp_;
   LocalMap map_;
   SeenThroughRemover seen_through_;
+  UnobservedDirection unobserved_direction_;
   std::vector<MapBeam> beams_;
   std::size_t seen_through_scans_ = 0;  // scans that removed seen-through points: which beams are next
   std::vector<Eigen::Vector3d> returns_w_;  // the down-sampled scan in the world frame

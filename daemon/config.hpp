@@ -95,6 +95,10 @@ struct RegistrationConfig {
   double convergence_translation_m = 0.01;
   double convergence_rotation_rad = 0.001;
   int convergence_window_iterations = 2;
+  double unobserved_min_eigenvalue = 0.002;
+  int unobserved_window_scans = 20;
+  double unobserved_fraction = 0.9;
+  double unobserved_sigma_m = 1.0;
   double sigma_n_floor_m = 0.02;
   double sigma_n_beam_rad = 0.0015;
   double tw_c1_m_s = 0.25;

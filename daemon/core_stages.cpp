@@ -143,7 +143,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
   const CorrectionResult result =
       fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m,
-                                          registration.map_initialised, registration.expected_error_m);
+                                          registration.map_initialised, registration.expected_error_pinned_m);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:
@@ -373,10 +373,10 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
   const Eigen::Vector3d v = velocity_at(trajectory, result.t_scan_start_s);
   out.velocity_m_s = {v.x(), v.y(), v.z()};
-  // The scan that starts a map defines it: no registration error, only the floor.
-  const Matrix6d covariance = published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance);
+  const Matrix6d& covariance = result.covariance_published;
   for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
   out.expected_error_m = static_cast<float>(expected_position_error_m(covariance));
+  out.expected_error_pinned_m = static_cast<float>(result.expected_error_pinned_m);
   out.iterations = result.iterations;
   out.registered = result.registered;
   out.map_initialised = result.map_initialised;
@@ -388,6 +388,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.correction_deg = static_cast<float>(result.rotation_from_prediction_rad * kRadToDeg);
   out.residual_m = static_cast<float>(result.residual_rms_m);
   out.degeneracy = static_cast<float>(result.degeneracy.min_eigenvalue);
+  out.direction_unobserved = result.direction_unobserved;
   for (int k = 0; k < 3; ++k) out.correction_w_m[k] = static_cast<float>(result.correction_w[k]);
   out.points_used = static_cast<std::int32_t>(result.points_registered);
   out.map_points = static_cast<std::int32_t>(result.map_points);

@@ -39,6 +39,10 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.icp.averaged_translation_m = r.convergence_translation_m;
   p.icp.averaged_rotation_rad = r.convergence_rotation_rad;
   p.icp.averaged_window = r.convergence_window_iterations;
+  p.unobserved.weak_min_eigenvalue = r.unobserved_min_eigenvalue;
+  p.unobserved.window_scans = static_cast<std::size_t>(r.unobserved_window_scans);
+  p.unobserved.enter_fraction = r.unobserved_fraction;
+  p.unobserved.sigma_m = r.unobserved_sigma_m;
 
   p.weights.model = r.model;
   p.weights.tw_c1_m_s = r.tw_c1_m_s;

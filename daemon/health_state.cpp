@@ -30,6 +30,10 @@ constexpr std::string_view kMapDeferred =
 constexpr std::string_view kWeaklyConstrained =
     "registration weakly constrained: expected position error above daemon.health.max_expected_error_m";
 
+constexpr std::string_view kDirectionUnobserved =
+    "registration degenerate: most recent scans leave one direction unpinned (a corridor's axis?); "
+    "the pose along it is not measured";
+
 std::string_view reason_of(ScanVerdict verdict) {
   switch (verdict) {
     case ScanVerdict::Good:
@@ -38,6 +42,8 @@ std::string_view reason_of(ScanVerdict verdict) {
       return "poor scan registration";
     case ScanVerdict::WeaklyConstrained:
       return kWeaklyConstrained;
+    case ScanVerdict::DirectionUnobserved:
+      return kDirectionUnobserved;
     case ScanVerdict::SpinRateUnmeasured:
       return kSpinRateUnmeasured;
     case ScanVerdict::MapDeferred:

@@ -39,8 +39,9 @@ enum class ScanVerdict : std::int8_t {
   Good = 0,
   PoorRegistration = 1,    // not registered, not used, not converged, too few matches or degenerate
   WeaklyConstrained = 2,   // expected error above daemon.health.max_expected_error_m
-  SpinRateUnmeasured = 3,  // gyro clipped about the lidar's spin axis
-  MapDeferred = 4,         // no local map, and the gyro clipped: waiting for a scan that can start one
+  DirectionUnobserved = 3, // a direction the recent scans have not pinned (a corridor's axis)
+  SpinRateUnmeasured = 4,  // gyro clipped about the lidar's spin axis
+  MapDeferred = 5,         // no local map, and the gyro clipped: waiting for a scan that can start one
 };
 
 // Values equal tumble::status_t::STATE_*.

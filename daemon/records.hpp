@@ -91,6 +91,7 @@ struct RegistrationRecord {
   // expected_position_error_m() of the covariance; above daemon.health.max_expected_error_m
   // the scan is weakly constrained (not a good scan).
   float expected_error_m = 0.0f;
+  float expected_error_pinned_m = 0.0f;  // ScanResult::expected_error_pinned_m: the fuser's levelling goes by it
   WeightModel model = WeightModel::GVTW;
   bool deskew = true;
   std::int32_t points_in = 0;
@@ -112,6 +113,9 @@ struct RegistrationRecord {
   // No scan registered on a map yet, and the gyro clipped during the scan: it
   // cannot start the first map (core_stages.cpp), so it is not registered.
   bool map_deferred = false;
+  // Its weakest direction, and that of most scans before it, only the noise
+  // pins (core/unobserved_direction.hpp): the covariance is widened along it.
+  bool direction_unobserved = false;
 };
 
 // Registered and used, but its expected error (records' expected_error_m) is

@@ -43,12 +43,13 @@ struct RunSummary {
 };
 
 // Runs the drive through the room and compares each registered pose with the truth.
-RunSummary run(const YawAndDrive& motion, const OdometryParams& params, double duration_s, const test::RingLidar& lidar) {
+RunSummary run(const YawAndDrive& motion, const OdometryParams& params, double duration_s, const test::RingLidar& lidar,
+               const test::Room& room = test::make_room()) {
   Odometry odometry(params);
   RunSummary summary;
   odometry.set_scan_callback([&](const ScanResult& r) { summary.results.push_back(r); });
   odometry.set_pose_callback([&](const TrajectorySample&) { ++summary.fused_poses; });
-  test::feed_room_drive(odometry, motion, duration_s, lidar);
+  test::feed_room_drive(odometry, motion, duration_s, lidar, room);
   for (const ScanResult& r : summary.results) {
     const Eigen::Isometry3d truth = motion.pose(r.t_scan_start_s);
     const double dt = (r.T_wl.translation() - truth.translation()).norm();
@@ -111,6 +112,47 @@ TEST(Odometry, TracksTheDriveWithScanLineNormalsToo) {
   for (const ScanResult& r : s.results) EXPECT_TRUE(r.registered) << r.scan_index;
   EXPECT_LT(s.max_translation_error_m, test::kCoarseTests ? 0.03 : 5e-3);
   EXPECT_LT(s.max_rotation_error_rad, (test::kCoarseTests ? 0.5 : 0.15) * M_PI / 180);
+}
+
+TEST(Odometry, ACorridorsAxisIsPublishedAsUnobservedAndTheRoomsDirectionsAreNot) {
+  // Straight down the corridor: nothing but the IMU follows x. Once the window
+  // of recent scans is full of weak ones, each scan says so and its published
+  // covariance is sigma_m wide along x; in the room no scan is weak.
+  OdometryParams params = test_params(true);
+  params.unobserved.window_scans = 5;
+  // This noise-free corridor's weakest eigenvalue is 0.0012-0.0020 (its
+  // edges' normals lean along x), the room's at least 0.0046.
+  params.unobserved.weak_min_eigenvalue = 0.003;
+  const double duration_s = test::full_or_coarse(1.5, 1.2);
+  YawAndDrive down_the_axis;
+  down_the_axis.velocity_w = Eigen::Vector3d(1.0, 0.0, 0.0);
+  down_the_axis.yaw_rate_rad_s = 0.0;
+  const RunSummary corridor = run(down_the_axis, params, duration_s, small_lidar(), test::make_corridor());
+  std::size_t on_map = 0, unobserved = 0;
+  for (const ScanResult& r : corridor.results) {
+    if (r.map_initialised || !r.registered) continue;
+    ++on_map;
+    EXPECT_LT(r.degeneracy.min_eigenvalue, params.unobserved.weak_min_eigenvalue) << r.scan_index;
+    EXPECT_EQ(r.direction_unobserved, on_map >= params.unobserved.window_scans) << r.scan_index;
+    if (!r.direction_unobserved) {
+      EXPECT_LT(r.expected_error_m, 0.05) << r.scan_index;  // what s²·H⁻¹ claims from the normals' noise
+      continue;
+    }
+    ++unobserved;
+    EXPECT_GT(r.expected_error_m, 0.95 * params.unobserved.sigma_m) << r.scan_index;
+    EXPECT_GT(r.covariance_published(0, 0), 0.9 * params.unobserved.sigma_m * params.unobserved.sigma_m) << r.scan_index;
+    EXPECT_LT(r.covariance_published(1, 1), 0.01) << r.scan_index;  // across the corridor: still pinned
+  }
+  EXPECT_GE(unobserved, 3u);
+
+  const RunSummary room = run(YawAndDrive{}, params, duration_s, small_lidar());
+  ASSERT_GE(room.results.size(), params.unobserved.window_scans + 2);
+  for (const ScanResult& r : room.results) {
+    EXPECT_FALSE(r.direction_unobserved) << r.scan_index;
+    if (!r.map_initialised) {
+      EXPECT_GT(r.degeneracy.min_eigenvalue, params.unobserved.weak_min_eigenvalue) << r.scan_index;
+    }
+  }
 }
 
 TEST(Odometry, DeskewingBeatsNoDeskewingUnderFastRotation) {

@@ -60,8 +60,8 @@ struct YawAndDrive {
 
 // Feeds `odometry` duration_s of the drive: 100 Hz IMU samples and 10 Hz
 // scans in time order (a scan when its last point has been fired).
-inline void feed_room_drive(Odometry& odometry, const YawAndDrive& motion, double duration_s, const RingLidar& lidar) {
-  const Room room = make_room();
+inline void feed_room_drive(Odometry& odometry, const YawAndDrive& motion, double duration_s, const RingLidar& lidar,
+                            const Room& room = make_room()) {
   const double imu_dt = 0.01;
   double next_scan_start = 0.0;
   std::uint64_t scan_index = 0;

@@ -354,6 +354,30 @@ TEST_F(StatusAggregatorTest, WeaklyConstrainedScansDegradeAndTheLargestExpectedE
   EXPECT_EQ(status_.scans_weakly_constrained, 1);
 }
 
+TEST_F(StatusAggregatorTest, AnUnobservedDirectionDegradesWithItsReasonUntilTheScansPinEveryDirection) {
+  const auto scan = [this](bool unobserved) {
+    RegistrationRecord r = registered_scan(true);
+    r.direction_unobserved = unobserved;
+    r.expected_error_m = unobserved ? 1.0f : 0.01f;  // widened along the direction
+    reports_.push(r);
+  };
+  scan(false);
+  evaluate_next_tick();
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(true);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: registration degenerate"), std::string::npos) << log_.str();
+  // Scans that would pass every other check do not recover it while the direction stays unobserved.
+  for (int i = 0; i < 8; ++i) scan(true);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  for (int i = 0; i < 5; ++i) scan(false);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+}
+
 TEST_F(StatusAggregatorTest, AResetIsLostThenTheNewMapInitialisesThenTracks) {
   const auto scan = [this](std::int32_t resets, bool map_initialised, bool good) {
     report_map_scan(resets, TrackingLoss::DisagreesWithImu, map_initialised, good);

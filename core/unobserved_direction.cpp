@@ -1,0 +1,50 @@
+#include "core/unobserved_direction.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace tumble {
+
+void check_unobserved_direction_params(const UnobservedDirectionParams& p) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("UnobservedDirectionParams: " + what); };
+  if (!(p.weak_min_eigenvalue >= 0 && p.weak_min_eigenvalue <= 1)) fail("weak_min_eigenvalue must be in [0, 1]");
+  if (p.window_scans < 1) fail("window_scans must be >= 1");
+  if (!(p.enter_fraction > 0 && p.enter_fraction <= 1)) fail("enter_fraction must be in (0, 1]");
+  if (!(p.sigma_m > 0)) fail("sigma_m must be > 0");
+}
+
+UnobservedDirection::UnobservedDirection(const UnobservedDirectionParams& params) : params_(params) {
+  check_unobserved_direction_params(params_);
+  weak_.assign(params_.window_scans, false);
+}
+
+bool UnobservedDirection::add(const Degeneracy& degeneracy) {
+  const bool weak = degeneracy.min_eigenvalue < params_.weak_min_eigenvalue;
+  if (filled_ == weak_.size()) {
+    weak_count_ -= weak_[next_] ? 1 : 0;
+  } else {
+    ++filled_;
+  }
+  weak_[next_] = weak;
+  weak_count_ += weak ? 1 : 0;
+  next_ = (next_ + 1) % weak_.size();
+  // Judged over a full window only: a new map's first scans say little.
+  const double fraction = static_cast<double>(weak_count_) / static_cast<double>(weak_.size());
+  if (filled_ == weak_.size() && fraction >= params_.enter_fraction) unobserved_ = true;
+  if (fraction < 0.5 * params_.enter_fraction) unobserved_ = false;
+  return unobserved_;
+}
+
+void UnobservedDirection::reset() {
+  weak_.assign(params_.window_scans, false);
+  next_ = filled_ = weak_count_ = 0;
+  unobserved_ = false;
+}
+
+void UnobservedDirection::widen(Matrix6d& covariance, const Degeneracy& degeneracy) const {
+  Vector6d u = degeneracy.direction;
+  u.tail<3>() /= degeneracy.length_scale_m;
+  covariance += params_.sigma_m * params_.sigma_m * u * u.transpose();
+}
+
+}  // namespace tumble

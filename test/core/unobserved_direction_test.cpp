@@ -1,0 +1,96 @@
+#include "core/unobserved_direction.hpp"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+namespace tumble {
+namespace {
+
+Degeneracy weakest(double min_eigenvalue, const Vector6d& direction = Vector6d::Unit(0), double length_scale_m = 1.0) {
+  Degeneracy d;
+  d.min_eigenvalue = min_eigenvalue;
+  d.direction = direction;
+  d.length_scale_m = length_scale_m;
+  return d;
+}
+
+UnobservedDirectionParams params() {
+  UnobservedDirectionParams p;
+  p.weak_min_eigenvalue = 0.002;
+  p.window_scans = 10;
+  p.enter_fraction = 0.9;
+  p.sigma_m = 2.0;
+  return p;
+}
+
+TEST(UnobservedDirection, AFullWindowAtTheBarMarksItAndFewerThanHalfTheBarClearsIt) {
+  UnobservedDirection tracker(params());
+  const Degeneracy weak = weakest(0.001), strong = weakest(0.01);
+  for (int i = 0; i < 9; ++i) EXPECT_FALSE(tracker.add(weak)) << i;  // the window is not full yet
+  EXPECT_TRUE(tracker.add(weak));
+  // Strong scans inside the period are marked too (one scan is not the
+  // direction seen again) down to 5 weak of 10; the 6th leaves 4: 0.4 < 0.45.
+  int strong_until_clear = 0;
+  while (tracker.add(strong)) ++strong_until_clear;
+  EXPECT_EQ(strong_until_clear, 5);
+  // Between the bars it stays clear: the window must hold 9 weak of 10 again
+  // (the first 4 weak scans replace the oldest, which were weak too).
+  for (int i = 0; i < 8; ++i) EXPECT_FALSE(tracker.add(weak)) << i;
+  EXPECT_TRUE(tracker.add(weak));
+}
+
+TEST(UnobservedDirection, WeakScansAmongStrongOnesNeverMarkIt) {
+  // A rolling cage that looks at the floor one scan in two.
+  UnobservedDirection tracker(params());
+  for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.add(weakest(i % 2 ? 0.001 : 0.02))) << i;
+}
+
+TEST(UnobservedDirection, ResetForgetsTheWindow) {
+  UnobservedDirection tracker(params());
+  for (int i = 0; i < 10; ++i) tracker.add(weakest(0.0));
+  tracker.reset();
+  for (int i = 0; i < 9; ++i) EXPECT_FALSE(tracker.add(weakest(0.0))) << i;
+  EXPECT_TRUE(tracker.add(weakest(0.0)));
+}
+
+TEST(UnobservedDirection, WidensTheCovarianceAlongTheWeakestDirectionInMetresAndRadians) {
+  const UnobservedDirection tracker(params());
+  // Half x translation, half a turn about z that moves points at 4 m by as much.
+  Vector6d direction = Vector6d::Zero();
+  direction(0) = std::sqrt(0.5);
+  direction(5) = std::sqrt(0.5);
+  Matrix6d covariance = Matrix6d::Identity() * 1e-6;
+  tracker.widen(covariance, weakest(0.0, direction, 4.0));
+  EXPECT_NEAR(covariance(0, 0), 1e-6 + 4.0 * 0.5, 1e-12);
+  EXPECT_NEAR(covariance(5, 5), 1e-6 + 4.0 * 0.5 / 16.0, 1e-12);
+  EXPECT_NEAR(covariance(0, 5), 4.0 * 0.5 / 4.0, 1e-12);
+  EXPECT_NEAR(covariance(1, 1), 1e-6, 1e-15);
+  EXPECT_TRUE(covariance.isApprox(covariance.transpose()));
+}
+
+TEST(UnobservedDirection, ParametersOutOfRangeAreNamed) {
+  const auto throws_naming = [](UnobservedDirectionParams p, const std::string& name) {
+    try {
+      UnobservedDirection tracker(p);
+      ADD_FAILURE() << name << " accepted";
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
+  UnobservedDirectionParams p = params();
+  p.window_scans = 0;
+  throws_naming(p, "window_scans");
+  p = params();
+  p.enter_fraction = 0.0;
+  throws_naming(p, "enter_fraction");
+  p = params();
+  p.sigma_m = 0.0;
+  throws_naming(p, "sigma_m");
+  p = params();
+  p.weak_min_eigenvalue = -1.0;
+  throws_naming(p, "weak_min_eigenvalue");
+}
+
+}  // namespace
+}  // namespace tumble
