@@ -194,8 +194,13 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
-  result.covariance_published = published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance);
-  result.expected_error_pinned_m = expected_position_error_m(result.covariance_published);
+  result.expected_error_icp_m =
+      expected_position_error_m(published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance));
+  const RegistrationConfidenceParams confidence;
+  result.covariance_published = published_covariance(
+      result.map_initialised
+          ? Matrix6d::Zero()
+          : without_normal_noise(result.covariance, result.degeneracy, confidence.normal_noise_information));
   if (result.registered && !result.map_initialised) {
     result.direction_unobserved = unobserved_direction_.add(result.degeneracy);
     if (result.direction_unobserved) unobserved_direction_.widen(result.covariance_published, result.degeneracy);
@@ -204,7 +209,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   lap(timing.registration_s);
 
   if (result.registered && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
-      params_.seen_through.enabled && result.expected_error_pinned_m <= params_.seen_through.max_expected_error_m) {
+      params_.seen_through.enabled && result.expected_error_icp_m <= params_.seen_through.max_expected_error_m) {
     // Before the scan's own points go in: they lie at its beams' ends.
     // Every beam_stride-th registered point casts a beam, the others on the next scans.
     const std::size_t stride = params_.seen_through.beam_stride;

@@ -113,16 +113,17 @@ struct ScanResult {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           // fused lidar velocity at t_scan_start_s
   Matrix6d covariance = Matrix6d::Identity();              // IcpResult::covariance
   double position_sigma_m = 0;   // what the fuser's velocity filter is told
-  // The covariance to publish (registration_confidence.hpp, widened along an
-  // unobserved direction) and its expected error; set once ICP has run (the
-  // first scan of a map: the floor alone).
+  // The covariance to publish (registration_confidence.hpp: the normals'
+  // noise discounted, calibrated, widened along an unobserved direction) and
+  // its expected error; set once ICP has run (the first scan of a map: the
+  // floor alone).
   Matrix6d covariance_published = published_covariance(Matrix6d::Identity());
   double expected_error_m = 0;
   bool direction_unobserved = false;  // UnobservedDirection: a direction the recent scans have not pinned
-  // The expected error before the widening: what the seen-through gate and
-  // the fuser's levelling go by. A corridor pins the attitude and the
-  // position across it; those uses keep their behaviour there.
-  double expected_error_pinned_m = 0;
+  // The expected error of the ICP's covariance as it is, calibrated: what the
+  // seen-through gate and the fuser's levelling go by (their thresholds were
+  // chosen on it; a corridor pins the attitude, which is what levelling needs).
+  double expected_error_icp_m = 0;
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used

@@ -144,7 +144,7 @@ struct HealthConfig {
   int good_scans_to_recover = 5;
   double min_matched_ratio = 0.3;
   double min_degeneracy = 0.001;
-  double max_expected_error_m = 0.03;
+  double max_expected_error_m = 0.04;
   bool operator==(const HealthConfig&) const = default;
 };
 

@@ -143,7 +143,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
   const CorrectionResult result =
       fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m,
-                                          registration.map_initialised, registration.expected_error_pinned_m);
+                                          registration.map_initialised, registration.expected_error_icp_m);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:
@@ -376,7 +376,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   const Matrix6d& covariance = result.covariance_published;
   for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
   out.expected_error_m = static_cast<float>(expected_position_error_m(covariance));
-  out.expected_error_pinned_m = static_cast<float>(result.expected_error_pinned_m);
+  out.expected_error_icp_m = static_cast<float>(result.expected_error_icp_m);
   out.iterations = result.iterations;
   out.registered = result.registered;
   out.map_initialised = result.map_initialised;

@@ -91,7 +91,7 @@ struct RegistrationRecord {
   // expected_position_error_m() of the covariance; above daemon.health.max_expected_error_m
   // the scan is weakly constrained (not a good scan).
   float expected_error_m = 0.0f;
-  float expected_error_pinned_m = 0.0f;  // ScanResult::expected_error_pinned_m: the fuser's levelling goes by it
+  float expected_error_icp_m = 0.0f;  // ScanResult::expected_error_icp_m: the fuser's levelling goes by it
   WeightModel model = WeightModel::GVTW;
   bool deskew = true;
   std::int32_t points_in = 0;

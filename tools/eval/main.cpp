@@ -222,7 +222,7 @@ struct IntegrityOptions {
   RunFilter selection;
   std::string model = "GVTW";
   std::string deskew = "on";
-  std::vector<double> thresholds_m{0.02, 0.025, 0.03, 0.035, 0.04};
+  std::vector<double> thresholds_m{0.03, 0.035, 0.04, 0.045, 0.05};
   std::size_t window = 10;
 };
 
