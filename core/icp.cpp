@@ -207,6 +207,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
 
   Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
   double weight_sum = 0;
+  double residual_variance = 0;  // s² of the last system
   double length_scale = 1;
   bool have_system = false;
   double clock_mark = now();
@@ -287,7 +288,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     result.inlier_ratio = static_cast<double>(kept) / static_cast<double>(matches_.size());
     result.residual_rms_m = std::sqrt(weighted_sq_sum / weight_sum);
     const double dof = static_cast<double>(kept) - 6.0;
-    const double residual_variance = dof > 0 ? weighted_sq_sum / dof : 0.0;
+    residual_variance = dof > 0 ? weighted_sq_sum / dof : 0.0;
 
     eigen.compute(H);
     const Vector6d lambda = eigen.eigenvalues();
@@ -355,6 +356,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   if (have_system && weight_sum > 0) {
     const Vector6d lambda = eigen.eigenvalues();
     d.min_eigenvalue = std::max(lambda(0), 0.0) / weight_sum;
+    d.residual_variance_per_weight = residual_variance / weight_sum;
     d.direction = eigen.eigenvectors().col(0);
     d.condition_number = lambda(0) > 0 ? lambda(5) / lambda(0) : std::numeric_limits<double>::infinity();
     d.degenerate = !(lambda(0) >= params_.degeneracy_ratio * lambda(5));

@@ -85,6 +85,9 @@ struct Degeneracy {
   double condition_number = 0;     // largest / smallest eigenvalue (inf when singular)
   double length_scale_m = 1;
   bool degenerate = true;          // also true when there were too few matches
+  // s²/W: the covariance's eigenvalue along a direction whose eigenvalue is a
+  // share x of the weights is this / x (registration_confidence.hpp).
+  double residual_variance_per_weight = 0;
 };
 
 struct IcpResult {

@@ -118,7 +118,7 @@ struct ImuFuserParams {
   // Madgwick's accelerometer step only on samples this long after the newest
   // scan registered on a map (header, 2); 0: on every sample, as the paper.
   double accel_correction_after_s = 0.5;
-  double levelling_max_expected_error_m = 0.03;  // registration_confidence.hpp
+  double levelling_max_expected_error_m = 0.03;  // of ScanResult::expected_error_icp_m (registration_confidence.hpp)
   bool attitude_from_device = false;
 
   double accel_noise_density_m_s2_sqrt_hz = 60e-6 * kStandardGravity_m_s2;  // MTi-30 datasheet
@@ -172,7 +172,7 @@ class ImuFuser {
   // (see the header). Call in scan order, after the IMU data covers
   // t_scan_start_s (the pipeline needs that to de-skew anyway).
   // It levels the attitude (header, 2) unless it starts a new map (map_start:
-  // the prediction itself) or its expected error is above
+  // the prediction itself) or its expected error (ScanResult::expected_error_icp_m) is above
   // levelling_max_expected_error_m; it re-anchors either way.
   CorrectionResult correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
                                                 double position_sigma_m, bool map_start = false,

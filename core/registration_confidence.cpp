@@ -13,25 +13,23 @@ Matrix6d published_covariance(const Matrix6d& icp_covariance, const Registration
   return out;
 }
 
-Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& degeneracy, double noise_information) {
-  if (!(degeneracy.min_eigenvalue > 0) || !(noise_information > 0) || !icp_covariance.allFinite()) return icp_covariance;
+Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& degeneracy, double noise_share) {
+  const double s2_per_weight = degeneracy.residual_variance_per_weight;
+  if (!(s2_per_weight > 0) || !(noise_share > 0) || !icp_covariance.allFinite()) return icp_covariance;
   Vector6d balance;
   balance << 1, 1, 1, degeneracy.length_scale_m, degeneracy.length_scale_m, degeneracy.length_scale_m;
-  // s²·H⁻¹ of the balanced H: eigenvalues μ = s²/λ; the largest belongs to the
-  // weakest direction, whose λ/W the degeneracy report gives, hence s²/W.
+  // s²·H⁻¹ of the balanced H: an eigenvalue μ = s²/λ, so λ's share of the weights is (s²/W)/μ.
   const Matrix6d balanced = balance.asDiagonal() * icp_covariance * balance.asDiagonal();
   const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(balanced);
   const Vector6d mu = solver.eigenvalues();
-  if (!(mu(5) > 0)) return icp_covariance;
-  const double s2_over_w = mu(5) * degeneracy.min_eigenvalue;
   Vector6d widened;
   for (int e = 0; e < 6; ++e) {
     if (!(mu(e) > 0)) {
       widened(e) = mu(e);
       continue;
     }
-    const double information = s2_over_w / mu(e);  // λ/W
-    widened(e) = s2_over_w / std::max(information - noise_information, 0.01 * information);
+    const double share = s2_per_weight / mu(e);
+    widened(e) = s2_per_weight / std::max(share - noise_share, 0.01 * share);
   }
   const Matrix6d out = solver.eigenvectors() * widened.asDiagonal() * solver.eigenvectors().transpose();
   const Vector6d unbalance = balance.cwiseInverse();

@@ -37,10 +37,11 @@ namespace tumble {
 struct RegistrationConfidenceParams {
   double covariance_scale = 4.0;   // κ: the published covariance is κ²·(ICP covariance) ...
   double position_floor_m = 0.002; // ... plus this² on the position diagonal
-  // without_normal_noise's share: the information a direction no surface
-  // constrains still gets. Measured: the weakest eigenvalue share of bench2's
-  // corridor scans (nothing along the axis) has its median at 0.0008-0.0015.
-  double normal_noise_information = 0.0015;
+  // without_normal_noise's share: what a direction no surface constrains
+  // still gets of the weights. Measured: the weakest eigenvalue share of
+  // bench2's corridor scans (nothing along the axis) has its median at
+  // 0.0008-0.0015.
+  double normal_noise_share = 0.0015;
 };
 
 // The covariance to publish with a registered pose, over (tx, ty, tz, rx, ry, rz)
@@ -48,12 +49,12 @@ struct RegistrationConfidenceParams {
 Matrix6d published_covariance(const Matrix6d& icp_covariance, const RegistrationConfidenceParams& params = {});
 
 // The ICP covariance without the information the normals' own noise gives
-// every direction: `noise_information` (a share of the weights' sum, like
+// every direction: `noise_share` (of the weights' sum, like
 // Degeneracy::min_eigenvalue) is taken from each eigenvalue of the balanced
-// normal matrix, down to a hundredth of it (σ at most 10× wider). Needs
-// the degeneracy report of the same ICP result; unchanged when its smallest
-// eigenvalue is 0 (the covariance is then not finite anyway).
-Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& degeneracy, double noise_information);
+// normal matrix, down to a hundredth of it (σ at most 10× wider). Needs the
+// degeneracy report of the same ICP result (its s²/W and length scale);
+// unchanged without one.
+Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& degeneracy, double noise_share);
 
 // The square root of the largest eigenvalue of the position block, m: the
 // expected error along the least constrained direction (infinity when the

@@ -49,10 +49,7 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       unobserved_direction_(params.unobserved),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
-void ScanRegistration::reset_map() {
-  map_ = LocalMap(params_.map, runner_);
-  unobserved_direction_.reset();
-}
+void ScanRegistration::reset_map() { map_ = LocalMap(params_.map, runner_); }
 
 ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajectory, ScanResult& result) {
   return process(scan, trajectory, result, ScanConditions{.deskew = params_.deskew});
@@ -194,16 +191,16 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
-  result.expected_error_icp_m =
-      expected_position_error_m(published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance));
-  const RegistrationConfidenceParams confidence;
+  result.expected_error_icp_m = expected_position_error_m(
+      published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance, params_.confidence));
   result.covariance_published = published_covariance(
       result.map_initialised
           ? Matrix6d::Zero()
-          : without_normal_noise(result.covariance, result.degeneracy, confidence.normal_noise_information));
+          : without_normal_noise(result.covariance, result.degeneracy, params_.confidence.normal_noise_share),
+      params_.confidence);
   if (result.registered && !result.map_initialised) {
     result.direction_unobserved = unobserved_direction_.add(result.degeneracy);
-    if (result.direction_unobserved) unobserved_direction_.widen(result.covariance_published, result.degeneracy);
+    if (result.direction_unobserved) unobserved_direction_.widen(result.covariance_published);
   }
   result.expected_error_m = expected_position_error_m(result.covariance_published);
   lap(timing.registration_s);

@@ -70,6 +70,8 @@ struct OdometryParams {
   // A direction weak in most recent scans is published as unobserved
   // (unobserved_direction.hpp), with a wide covariance along it.
   UnobservedDirectionParams unobserved;
+  // The published covariance: κ, the floor, the normals' noise (registration_confidence.hpp).
+  RegistrationConfidenceParams confidence;
   // Registration: max_match_distance_m 1, match_k 1, FRMSD 0.5/0.7/2.35,
   // max_iterations 40, convergence. `icp.weighting` is set from the weight
   // model (SAW: the point's weight; the others: inverse variance).
@@ -118,12 +120,12 @@ struct ScanResult {
   // its expected error; set once ICP has run (the first scan of a map: the
   // floor alone).
   Matrix6d covariance_published = published_covariance(Matrix6d::Identity());
-  double expected_error_m = 0;
+  double expected_error_m = expected_position_error_m(covariance_published);
   bool direction_unobserved = false;  // UnobservedDirection: a direction the recent scans have not pinned
   // The expected error of the ICP's covariance as it is, calibrated: what the
   // seen-through gate and the fuser's levelling go by (their thresholds were
   // chosen on it; a corridor pins the attitude, which is what levelling needs).
-  double expected_error_icp_m = 0;
+  double expected_error_icp_m = expected_position_error_m(covariance_published);
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used

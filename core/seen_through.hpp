@@ -61,7 +61,8 @@ struct SeenThroughParams {
   // that passes the edge of a surface, whose other beams hit it, leaves it.
   double support_radius_m = 0.1;
   // Only a scan whose pose is this sure along every direction removes
-  // anything (registration_confidence.hpp's expected error). A pose slipping
+  // anything (ScanResult::expected_error_icp_m: registration_confidence.hpp's
+  // expected error of the ICP covariance as it is). A pose slipping
   // along a corridor would see through the walls at its ends, the only
   // points that hold it: bench2's corridor cage runs then diverged.
   double max_expected_error_m = 0.03;

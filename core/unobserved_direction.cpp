@@ -26,25 +26,21 @@ bool UnobservedDirection::add(const Degeneracy& degeneracy) {
     ++filled_;
   }
   weak_[next_] = weak;
+  if (weak) {
+    direction_ = degeneracy.direction;
+    direction_.tail<3>() /= degeneracy.length_scale_m;
+  }
   weak_count_ += weak ? 1 : 0;
   next_ = (next_ + 1) % weak_.size();
-  // Judged over a full window only: a new map's first scans say little.
+  // Judged over a full window only: a run's first scans say little.
   const double fraction = static_cast<double>(weak_count_) / static_cast<double>(weak_.size());
   if (filled_ == weak_.size() && fraction >= params_.enter_fraction) unobserved_ = true;
   if (fraction < 0.5 * params_.enter_fraction) unobserved_ = false;
   return unobserved_;
 }
 
-void UnobservedDirection::reset() {
-  weak_.assign(params_.window_scans, false);
-  next_ = filled_ = weak_count_ = 0;
-  unobserved_ = false;
-}
-
-void UnobservedDirection::widen(Matrix6d& covariance, const Degeneracy& degeneracy) const {
-  Vector6d u = degeneracy.direction;
-  u.tail<3>() /= degeneracy.length_scale_m;
-  covariance += params_.sigma_m * params_.sigma_m * u * u.transpose();
+void UnobservedDirection::widen(Matrix6d& covariance) const {
+  covariance += params_.sigma_m * params_.sigma_m * direction_ * direction_.transpose();
 }
 
 }  // namespace tumble

@@ -22,7 +22,7 @@
 namespace tumble {
 
 struct UnobservedDirectionParams {
-  double weak_min_eigenvalue = 0.002;  // Degeneracy::min_eigenvalue below this: a weak scan
+  double weak_min_eigenvalue = 0.002;  // Degeneracy::min_eigenvalue below this: a weak scan (0: none is)
   std::size_t window_scans = 20;       // over the last this many registered scans ...
   double enter_fraction = 0.9;         // ... this fraction weak: unobserved, until below half of it
   double sigma_m = 1.0;                // published along the unobserved direction: "unknown", still invertible
@@ -37,16 +37,18 @@ class UnobservedDirection {
 
   // Adds a scan registered on a map; true while the window says a direction is
   // unobserved (for every scan then, weak or not: one scan that happens to pass
-  // the bar is not a direction seen again).
+  // the bar is not a direction seen again). The window outlives a new local
+  // map: the weakness belongs to the place (a corridor loses its map often).
   bool add(const Degeneracy& degeneracy);
-  void reset();
 
-  // Adds sigma_m² along the weakest direction to a published covariance over
-  // (tx, ty, tz, rx, ry, rz), converting its rotation part back to radians.
-  void widen(Matrix6d& covariance, const Degeneracy& degeneracy) const;
+  // Adds sigma_m² to a published covariance over (tx, ty, tz, rx, ry, rz)
+  // along the weakest direction of the newest weak scan (not the scan's own:
+  // one that pins it has its weakest elsewhere), rotation in radians.
+  void widen(Matrix6d& covariance) const;
 
  private:
   UnobservedDirectionParams params_;
+  Vector6d direction_ = Vector6d::Zero();  // of the newest weak scan, rotation part in radians
   std::vector<bool> weak_;  // ring over the window
   std::size_t next_ = 0;
   std::size_t filled_ = 0;

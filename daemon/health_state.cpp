@@ -31,7 +31,7 @@ constexpr std::string_view kWeaklyConstrained =
     "registration weakly constrained: expected position error above daemon.health.max_expected_error_m";
 
 constexpr std::string_view kDirectionUnobserved =
-    "registration degenerate: most recent scans leave one direction unpinned (a corridor's axis?); "
+    "direction unobserved: most recent scans leave one direction unpinned (a corridor's axis?); "
     "the pose along it is not measured";
 
 std::string_view reason_of(ScanVerdict verdict) {

@@ -22,9 +22,10 @@
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
-// the gyro not clipped about the lidar's spin axis, and the expected error of
-// the registered pose within daemon.health.max_expected_error_m (a bad scan for
-// either of these two reasons is reported as such).
+// the gyro not clipped about the lidar's spin axis, no direction unobserved
+// (core/unobserved_direction.hpp), and the expected error of the registered
+// pose within daemon.health.max_expected_error_m (a bad scan for any of these
+// three reasons is reported as such).
 // "Data dropped": a ring dropped items or a scan was discarded in the period.
 #pragma once
 

@@ -55,6 +55,8 @@ void to_lcm(const RegistrationRecord& r, const std::vector<std::string>& stage_n
   out.imu_bridged = r.imu_bridged;
   out.spin_rate_unmeasured = r.spin_rate_unmeasured;
   out.map_deferred = r.map_deferred;
+  out.direction_unobserved = r.direction_unobserved;
+  out.expected_error_icp_m = r.expected_error_icp_m;
   out.expected_error_m = r.expected_error_m;
   const std::size_t stages = std::min<std::size_t>({r.num_stages, stage_names.size(), RegistrationRecord::kMaxStages});
   out.num_stages = static_cast<std::int16_t>(stages);

@@ -35,6 +35,7 @@ IcpOutcome icp_outcome(const Vector6d& information_share, double s2_over_w, doub
   out.covariance = unbalance.asDiagonal() * (axes * mu.asDiagonal() * axes.transpose()) * unbalance.asDiagonal();
   out.degeneracy.min_eigenvalue = information_share.minCoeff();
   out.degeneracy.length_scale_m = length_m;
+  out.degeneracy.residual_variance_per_weight = s2_over_w;
   return out;
 }
 
@@ -61,11 +62,20 @@ TEST(RegistrationConfidence, TheNormalsNoiseIsTakenFromEveryDirectionsInformatio
   const Matrix6d corridor = without_normal_noise(icp.covariance, icp.degeneracy, 0.01);
   EXPECT_NEAR(lane.dot(corridor.topLeftCorner<3, 3>() * lane), 100.0 * 1e-6 / 0.002, 1e-7);
 
-  // Nothing to take, or nothing to take it from: unchanged.
+  // A direction ICP could not solve at all (its eigenvalue below the
+  // pseudo-inverse's cutoff, the covariance huge there) does not change what
+  // the others keep: the share comes from s²/W, not from the weakest direction.
+  share(0) = 1e-9;
+  const IcpOutcome singular = icp_outcome(share, 1e-6, 4.0, axes);
+  const Matrix6d from_singular = without_normal_noise(singular.covariance, singular.degeneracy, 0.0015);
+  EXPECT_NEAR(across.dot(from_singular.topLeftCorner<3, 3>() * across), 1e-6 / 0.1985, 1e-9);
+  EXPECT_NEAR(lane.dot(from_singular.topLeftCorner<3, 3>() * lane), 100.0 * 1e-6 / 1e-9, 1.0);
+
+  // Nothing to take, or no s²/W to take it with: unchanged.
   EXPECT_EQ(without_normal_noise(icp.covariance, icp.degeneracy, 0.0), icp.covariance);
-  Degeneracy singular = icp.degeneracy;
-  singular.min_eigenvalue = 0.0;
-  EXPECT_EQ(without_normal_noise(icp.covariance, singular, 0.0015), icp.covariance);
+  Degeneracy unreported = icp.degeneracy;
+  unreported.residual_variance_per_weight = 0.0;
+  EXPECT_EQ(without_normal_noise(icp.covariance, unreported, 0.0015), icp.covariance);
 }
 
 TEST(RegistrationConfidence, ExpectedErrorIsAlongTheLeastConstrainedDirectionWhateverItsAxes) {

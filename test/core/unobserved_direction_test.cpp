@@ -46,27 +46,29 @@ TEST(UnobservedDirection, WeakScansAmongStrongOnesNeverMarkIt) {
   for (int i = 0; i < 100; ++i) EXPECT_FALSE(tracker.add(weakest(i % 2 ? 0.001 : 0.02))) << i;
 }
 
-TEST(UnobservedDirection, ResetForgetsTheWindow) {
+TEST(UnobservedDirection, WidensAlongTheNewestWeakScansDirectionInMetresAndRadians) {
   UnobservedDirection tracker(params());
-  for (int i = 0; i < 10; ++i) tracker.add(weakest(0.0));
-  tracker.reset();
-  for (int i = 0; i < 9; ++i) EXPECT_FALSE(tracker.add(weakest(0.0))) << i;
-  EXPECT_TRUE(tracker.add(weakest(0.0)));
-}
-
-TEST(UnobservedDirection, WidensTheCovarianceAlongTheWeakestDirectionInMetresAndRadians) {
-  const UnobservedDirection tracker(params());
   // Half x translation, half a turn about z that moves points at 4 m by as much.
-  Vector6d direction = Vector6d::Zero();
-  direction(0) = std::sqrt(0.5);
-  direction(5) = std::sqrt(0.5);
+  Vector6d weak_direction = Vector6d::Zero();
+  weak_direction(0) = std::sqrt(0.5);
+  weak_direction(5) = std::sqrt(0.5);
+  for (int i = 0; i < 10; ++i) tracker.add(weakest(0.001, weak_direction, 4.0));
+  // A strong scan, its own weakest direction pinned (z): the unobserved one is still x and yaw.
+  ASSERT_TRUE(tracker.add(weakest(0.01, Vector6d::Unit(2), 1.0)));
   Matrix6d covariance = Matrix6d::Identity() * 1e-6;
-  tracker.widen(covariance, weakest(0.0, direction, 4.0));
+  tracker.widen(covariance);
   EXPECT_NEAR(covariance(0, 0), 1e-6 + 4.0 * 0.5, 1e-12);
   EXPECT_NEAR(covariance(5, 5), 1e-6 + 4.0 * 0.5 / 16.0, 1e-12);
   EXPECT_NEAR(covariance(0, 5), 4.0 * 0.5 / 4.0, 1e-12);
-  EXPECT_NEAR(covariance(1, 1), 1e-6, 1e-15);
+  EXPECT_NEAR(covariance(2, 2), 1e-6, 1e-15);
   EXPECT_TRUE(covariance.isApprox(covariance.transpose()));
+}
+
+TEST(UnobservedDirection, ABarOfZeroMarksNothing) {
+  UnobservedDirectionParams p = params();
+  p.weak_min_eigenvalue = 0.0;
+  UnobservedDirection tracker(p);
+  for (int i = 0; i < 30; ++i) EXPECT_FALSE(tracker.add(weakest(0.0))) << i;
 }
 
 TEST(UnobservedDirection, ParametersOutOfRangeAreNamed) {

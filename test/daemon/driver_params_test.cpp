@@ -45,6 +45,26 @@ TEST(OdometryParamsFromConfig, SeenThroughKeysReachTheCore) {
   EXPECT_THROW(load_config("map:\n  seen_through_beam_radius_m: 0\n", "test.yaml"), ConfigError);
 }
 
+TEST(OdometryParamsFromConfig, UnobservedDirectionKeysReachTheCore) {
+  const OdometryParams defaults = odometry_params(DaemonConfig{});
+  EXPECT_DOUBLE_EQ(defaults.unobserved.weak_min_eigenvalue, UnobservedDirectionParams{}.weak_min_eigenvalue);
+  EXPECT_EQ(defaults.unobserved.window_scans, UnobservedDirectionParams{}.window_scans);
+  EXPECT_DOUBLE_EQ(defaults.unobserved.enter_fraction, UnobservedDirectionParams{}.enter_fraction);
+  EXPECT_DOUBLE_EQ(defaults.unobserved.sigma_m, UnobservedDirectionParams{}.sigma_m);
+
+  const DaemonConfig config = load_config(
+      "registration:\n  unobserved_min_eigenvalue: 0.003\n  unobserved_window_scans: 12\n"
+      "  unobserved_fraction: 0.75\n  unobserved_sigma_m: 5\n",
+      "test.yaml");
+  const OdometryParams p = odometry_params(config);
+  EXPECT_DOUBLE_EQ(p.unobserved.weak_min_eigenvalue, 0.003);
+  EXPECT_EQ(p.unobserved.window_scans, 12u);
+  EXPECT_DOUBLE_EQ(p.unobserved.enter_fraction, 0.75);
+  EXPECT_DOUBLE_EQ(p.unobserved.sigma_m, 5.0);
+  EXPECT_THROW(load_config("registration:\n  unobserved_window_scans: 0\n", "test.yaml"), ConfigError);
+  EXPECT_THROW(load_config("registration:\n  unobserved_sigma_m: 0\n", "test.yaml"), ConfigError);
+}
+
 TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
   EXPECT_DOUBLE_EQ(scan_assembler_config(LidarConfig{}).min_scan_coverage, 0.9);
   const DaemonConfig config = load_config("lidar:\n  min_scan_coverage: 0.5\n  split_azimuth_deg: 90\n", "test.yaml");

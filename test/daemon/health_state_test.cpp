@@ -122,7 +122,7 @@ TEST(HealthState, AnUnobservedDirectionDegradesWithThatReasonAndIsRestated) {
   in.worst_scan_in_period = ScanVerdict::DirectionUnobserved;
   const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
   EXPECT_EQ(t.state, S::Degraded);
-  EXPECT_EQ(t.reason.substr(0, 48), "registration degenerate: most recent scans leave");
+  EXPECT_EQ(t.reason.substr(0, 51), "direction unobserved: most recent scans leave one d");
   in.consecutive_good_scans = 0;
   EXPECT_EQ(next_health_state(S::Degraded, 1.0, in, {}).reason, t.reason);
   EXPECT_EQ(next_health_state(S::Degraded, 3.0, in, {}).state, S::Lost);
