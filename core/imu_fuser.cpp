@@ -134,11 +134,10 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   if (params_.attitude_from_device && sample.has_orientation) {
     if (!device_alignment_) device_alignment_ = madgwick_.orientation() * sample.orientation.conjugate();
     madgwick_.set_orientation(*device_alignment_ * sample.orientation);
-  } else if (any(entry.accel_clipped)) {
+  } else if (any(entry.accel_clipped) || !accelerometer_levels(sample.t_s)) {
+    // A clipped accelerometer is no gravity reference; otherwise the registrations level the attitude (header, 2).
     madgwick_.propagate(entry.gyro_i, dt);
-    ++stats_.accel_gated;
-  } else if (!accelerometer_levels(sample.t_s)) {
-    madgwick_.propagate(entry.gyro_i, dt);
+    if (any(entry.accel_clipped)) ++stats_.accel_gated;
   } else if (!madgwick_.update(entry.gyro_i, entry.accel_i, dt)) {
     ++stats_.accel_gated;
   }

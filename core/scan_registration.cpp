@@ -191,12 +191,11 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
-  result.expected_error_icp_m = expected_position_error_m(
-      published_covariance(result.map_initialised ? Matrix6d::Zero() : result.covariance, params_.confidence));
+  // The scan that starts a map defines it: no registration error, only the floor.
+  const Matrix6d icp_covariance = result.map_initialised ? Matrix6d::Zero() : result.covariance;
+  result.expected_error_icp_m = expected_position_error_m(published_covariance(icp_covariance, params_.confidence));
   result.covariance_published = published_covariance(
-      result.map_initialised
-          ? Matrix6d::Zero()
-          : without_normal_noise(result.covariance, result.degeneracy, params_.confidence.normal_noise_share),
+      without_normal_noise(icp_covariance, result.degeneracy, params_.confidence.normal_noise_share),
       params_.confidence);
   if (result.registered && !result.map_initialised) {
     result.direction_unobserved = unobserved_direction_.add(result.degeneracy);

@@ -125,7 +125,7 @@ struct ScanResult {
   // The expected error of the ICP's covariance as it is, calibrated: what the
   // seen-through gate and the fuser's levelling go by (their thresholds were
   // chosen on it; a corridor pins the attitude, which is what levelling needs).
-  double expected_error_icp_m = expected_position_error_m(covariance_published);
+  double expected_error_icp_m = expected_error_m;
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used

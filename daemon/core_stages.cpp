@@ -375,7 +375,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.velocity_m_s = {v.x(), v.y(), v.z()};
   const Matrix6d& covariance = result.covariance_published;
   for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
-  out.expected_error_m = static_cast<float>(expected_position_error_m(covariance));
+  out.expected_error_m = static_cast<float>(result.expected_error_m);
   out.expected_error_icp_m = static_cast<float>(result.expected_error_icp_m);
   out.iterations = result.iterations;
   out.registered = result.registered;

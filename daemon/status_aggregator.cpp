@@ -47,7 +47,7 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
 ScanVerdict StatusAggregator::verdict(const RegistrationRecord& r) const {
   if (r.map_deferred) return ScanVerdict::MapDeferred;
   if (r.spin_rate_unmeasured) return ScanVerdict::SpinRateUnmeasured;
-  if (r.registered && r.direction_unobserved) return ScanVerdict::DirectionUnobserved;
+  if (r.direction_unobserved) return ScanVerdict::DirectionUnobserved;
   if (weakly_constrained(r, health_.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
   const bool good = r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
                     r.degeneracy >= health_.min_degeneracy;
