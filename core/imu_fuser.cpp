@@ -134,11 +134,7 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   if (params_.attitude_from_device && sample.has_orientation) {
     if (!device_alignment_) device_alignment_ = madgwick_.orientation() * sample.orientation.conjugate();
     madgwick_.set_orientation(*device_alignment_ * sample.orientation);
-  } else if (any(entry.accel_clipped) || !accelerometer_levels(sample.t_s)) {
-    // A clipped accelerometer is no gravity reference; otherwise the registrations level the attitude (header, 2).
-    madgwick_.propagate(entry.gyro_i, dt);
-    if (any(entry.accel_clipped)) ++stats_.accel_gated;
-  } else if (!madgwick_.update(entry.gyro_i, entry.accel_i, dt)) {
+  } else if (!step_attitude(madgwick_, entry, dt)) {
     ++stats_.accel_gated;
   }
   entry.q_wi = madgwick_.orientation();
@@ -268,6 +264,15 @@ bool ImuFuser::accelerometer_levels(double t_s) const {
   return !(newest_levelling_s_ && t_s - *newest_levelling_s_ <= params_.accel_correction_after_s);
 }
 
+bool ImuFuser::step_attitude(MadgwickFilter& filter, const HistoryEntry& entry, double dt_s) const {
+  // A clipped accelerometer is no gravity reference; otherwise the registrations level the attitude (header, 2).
+  if (any(entry.accel_clipped) || !accelerometer_levels(entry.t_s)) {
+    filter.propagate(entry.gyro_i, dt_s);
+    return !any(entry.accel_clipped);
+  }
+  return filter.update(entry.gyro_i, entry.accel_i, dt_s);
+}
+
 Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
   if (t_s <= history_.front().t_s) return history_.front().q_wi;
   const std::size_t j = entry_before(t_s);
@@ -277,9 +282,9 @@ Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
   return a.q_wi.slerp((t_s - a.t_s) / (b.t_s - a.t_s), b.q_wi);
 }
 
-CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
-                                                        double position_sigma_m, bool map_start,
-                                                        double expected_error_m) {
+CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, double t_scan_end_s,
+                                                        const Eigen::Isometry3d& T_wl, double position_sigma_m,
+                                                        bool map_start, double expected_error_m) {
   CorrectionResult result;
   if (!initialized_) {
     ++stats_.corrections_before_init;
@@ -305,6 +310,7 @@ CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, c
   const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized();
   PoseReset reset;
   reset.t_s = t_scan_start_s;
+  reset.t_scan_end_s = t_scan_end_s;
   reset.correction = (q_wi_registered * attitude_at(t_scan_start_s).conjugate()).normalized();
   reset.q_wi = q_wi_registered;
   reset.p_wi = T_wl * params_.T_li.translation();
@@ -351,10 +357,18 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
   bool velocity_pending = velocity.has_value();
   bool reset_pending = true;
   trajectory_.truncate_after(t);
-  // After the reset the attitude is rebuilt step by step: the gyro alone
-  // where the accelerometer is left out (header, 2), else Madgwick's step
-  // as taken, and the newest lidar rate where the gyro was clipped.
+  // After the reset the attitude is rebuilt step by step (header, 2), the
+  // newest lidar rate where the gyro was clipped. Up to the first sample at
+  // or after the scan's end: the gyro alone where the accelerometer is left
+  // out, else Madgwick's step as taken. After it, each step is taken again
+  // from the corrected attitude, with the bits add_imu() would use had the
+  // correction come at that sample: a sample added after the correction came
+  // gets the same bits as one added before it. The device's own attitude
+  // keeps its steps as taken.
+  std::size_t scan_end = base + 1;
+  while (scan_end + 1 < history_.size() && history_[scan_end].t_s < reset.t_scan_end_s) ++scan_end;
   std::optional<Eigen::Quaterniond> previous_q_before, previous_q_after;
+  MadgwickFilter attitude = madgwick_;
 
   for (std::size_t n = base + 1; n < history_.size(); ++n) {
     HistoryEntry& entry = history_[n];
@@ -369,6 +383,18 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
         entry.q_wi = gyro_alone && !any(entry.gyro_clipped)
                          ? integrate_body_rate(reset.q_wi, entry.gyro_i, entry.t_s - reset.t_s)
                          : (reset.correction * q_before).normalized();
+      } else if (n > scan_end && !params_.attitude_from_device) {
+        if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
+        // Had the correction come at the scan's end, the filter would have
+        // been set (normalised) to that sample's attitude, as at the end of
+        // this function, then stepped on from its own output.
+        if (n == scan_end + 1) {
+          attitude.set_orientation(*previous_q_after);
+        } else {
+          attitude.resume_from(*previous_q_after);
+        }
+        step_attitude(attitude, entry, entry.t_s - history_[n - 1].t_s);
+        entry.q_wi = attitude.orientation();
       } else if (any(entry.gyro_clipped) || gyro_alone) {
         if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
         entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
@@ -416,7 +442,11 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     trajectory_.push_back(to_trajectory_sample(entry));
   }
 
-  madgwick_.set_orientation(history_.back().q_wi);
+  if (history_.size() - 1 <= scan_end) {
+    madgwick_.set_orientation(history_.back().q_wi);
+  } else {
+    madgwick_.resume_from(history_.back().q_wi);
+  }
   if (device_alignment_) device_alignment_ = (reset.correction * *device_alignment_).normalized();
 }
 

@@ -26,9 +26,13 @@
 //    every point. Without such registrations (before the first map, lost,
 //    the lidar silent, a scan that pins the pose only weakly and may turn it
 //    wrongly: a corridor) the accelerometer is the only tilt reference and
-//    levels it as in the paper. The rule goes by data time, and a correction takes
-//    the gyro alone again for the samples after it that were stepped before
-//    it arrived, so the result does not depend on thread timing.
+//    levels it as in the paper. The rule goes by data time. A correction
+//    re-bases the attitude steps of the samples up to the first one at or
+//    after the scan's end (the ones a lossless replay holds when the
+//    registration is done) and takes every later step again from the
+//    corrected attitude, as a sample arriving after the correction is
+//    stepped: the result is that of a registration that took no time,
+//    however many samples came first (thread timing, live).
 // 3. Velocity: a linear Kalman filter per W axis: state v, input the
 //    gravity-free acceleration a_W = R_WI f + g (trapezoid), process noise
 //    PSD = accel_noise_density² + accel_unmodelled² · 1 s. The second term is
@@ -165,18 +169,19 @@ class ImuFuser {
   // One IMU sample (times must increase; others are dropped and counted).
   void add_imu(const ImuSample& sample);
 
-  // The registration's result for the scan starting at t_scan_start_s: the
-  // lidar pose T_WL there and its position sigma (the registration's residual
-  // mapped to a pose uncertainty, m). Feeds the velocity filter with the mean
-  // velocity since the previous registered pose and re-anchors the trajectory
-  // (see the header). Call in scan order, after the IMU data covers
-  // t_scan_start_s (the pipeline needs that to de-skew anyway).
+  // The registration's result for the scan from t_scan_start_s to
+  // t_scan_end_s (its last point): the lidar pose T_WL at the start and its
+  // position sigma (the registration's residual mapped to a pose
+  // uncertainty, m). Feeds the velocity filter with the mean velocity since
+  // the previous registered pose and re-anchors the trajectory (see the
+  // header). Call in scan order, after the IMU data covers t_scan_start_s
+  // (the pipeline needs that to de-skew anyway).
   // It levels the attitude (header, 2) unless it starts a new map (map_start:
   // the prediction itself) or its expected error (ScanResult::expected_error_icp_m) is above
   // levelling_max_expected_error_m; it re-anchors either way.
-  CorrectionResult correct_with_registered_pose(double t_scan_start_s, const Eigen::Isometry3d& T_wl,
-                                                double position_sigma_m, bool map_start = false,
-                                                double expected_error_m = 0.0);
+  CorrectionResult correct_with_registered_pose(double t_scan_start_s, double t_scan_end_s,
+                                                const Eigen::Isometry3d& T_wl, double position_sigma_m,
+                                                bool map_start = false, double expected_error_m = 0.0);
 
   bool initialized() const { return initialized_; }
   const Trajectory& trajectory() const { return trajectory_; }
@@ -212,6 +217,7 @@ class ImuFuser {
   };
   struct PoseReset {
     double t_s = 0.0;
+    double t_scan_end_s = 0.0;
     Eigen::Quaterniond correction = Eigen::Quaterniond::Identity();  // ΔR
     Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();        // registered
     Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
@@ -233,6 +239,9 @@ class ImuFuser {
   Eigen::Quaterniond attitude_at(double t_s) const;
   // Whether Madgwick's accelerometer step applies to a sample at t_s (header, 2).
   bool accelerometer_levels(double t_s) const;
+  // Advances `filter` over one sample's attitude step (header, 2); false when
+  // the accelerometer's step was left out for clipping or the gate.
+  bool step_attitude(MadgwickFilter& filter, const HistoryEntry& entry, double dt_s) const;
   void repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset);
   TrajectorySample to_trajectory_sample(const HistoryEntry& entry) const;
 

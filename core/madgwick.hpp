@@ -43,6 +43,9 @@ class MadgwickFilter {
 
   const Eigen::Quaterniond& orientation() const { return q_wi_; }
   void set_orientation(const Eigen::Quaterniond& q_wi) { q_wi_ = q_wi.normalized(); }
+  // Continues from an orientation this filter gave (not normalised again): a
+  // step taken again after a correction must see the bits the first one saw.
+  void resume_from(const Eigen::Quaterniond& q_wi) { q_wi_ = q_wi; }
 
  private:
   MadgwickParams params_;

@@ -142,7 +142,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   T_wl.translation() =
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
   const CorrectionResult result =
-      fuser_.correct_with_registered_pose(registration.t_s, T_wl, registration.position_sigma_m,
+      fuser_.correct_with_registered_pose(registration.t_s, registration.t_end_s, T_wl, registration.position_sigma_m,
                                           registration.map_initialised, registration.expected_error_icp_m);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
@@ -238,6 +238,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   holding_ = false;
   out = RegistrationRecord{};
   out.t_s = held_.points.front().t_s;
+  out.t_end_s = held_.points.back().t_s;
   out.scan_index = static_cast<std::int64_t>(held_.index);
   out.model = params_.weights.model;
   out.deskew = params_.deskew;

@@ -71,6 +71,7 @@ constexpr std::string_view to_string(TrackingLoss loss) {
 struct RegistrationRecord {
   static constexpr std::size_t kMaxStages = 8;
   double t_s = 0.0;  // the scan's first point
+  double t_end_s = 0.0;  // its last point
   std::int64_t scan_index = 0;
   std::array<double, 3> position_m{};
   std::array<double, 4> orientation_wxyz{1.0, 0.0, 0.0, 0.0};

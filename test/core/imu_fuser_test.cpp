@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -18,6 +19,7 @@ constexpr double kG = 9.80665;
 constexpr double kT0 = 1000.0;         // first sample (absolute times, as in replay)
 constexpr double kMotionStart = kT0 + 1.2;
 constexpr double kDt = 0.01;           // 100 Hz
+constexpr double kScanS = 0.1;         // a scan's first to last point (10 Hz)
 
 // Motion of the IMU in W (z up); static before kMotionStart.
 struct Truth {
@@ -58,6 +60,13 @@ Eigen::Isometry3d pose_of(const Eigen::Quaterniond& q, const Eigen::Vector3d& p)
   T.linear() = q.toRotationMatrix();
   T.translation() = p;
   return T;
+}
+
+// The registration of the scan that starts at t_scan_s and lasts kScanS.
+CorrectionResult correct_scan(ImuFuser& fuser, double t_scan_s, const Eigen::Isometry3d& T_wl, double position_sigma_m,
+                              bool map_start = false, double expected_error_m = 0.0) {
+  return fuser.correct_with_registered_pose(t_scan_s, t_scan_s + kScanS, T_wl, position_sigma_m, map_start,
+                                            expected_error_m);
 }
 
 // Index of the last trajectory sample at or before t.
@@ -171,7 +180,7 @@ TEST(ImuFuser, ATurntablesCentripetalAccelerationDoesNotTiltAnAttitudeTheRegistr
       const int first = 120 + 10 * scan;
       feed(*fuser, truth, first + 1, first + 10);
       const double t_scan = sample_time(first) + 0.005;
-      fuser->correct_with_registered_pose(t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 0.01);
+      correct_scan(*fuser, t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 0.01);
     }
     ASSERT_TRUE(fuser->initialized());
   }
@@ -198,8 +207,8 @@ TEST(ImuFuser, WithoutRegistrationsOnAMapTheAccelerometerLevelsTheAttitude) {
     SCOPED_TRACE(c.what);
     ImuFuser fuser(ImuFuserParams{});
     feed(fuser, truth, 0, 150);
-    fuser.correct_with_registered_pose(sample_time(150) - 0.005, pose_of(tilted, Eigen::Vector3d::Zero()), 0.01,
-                                       c.map_start, c.expected_error_m);
+    correct_scan(fuser, sample_time(150) - 0.005, pose_of(tilted, Eigen::Vector3d::Zero()), 0.01, c.map_start,
+                 c.expected_error_m);
     feed(fuser, truth, 151, 190);  // 0.4 s
     const double tilt_at_0_4_s = tilt_error_rad(fuser, truth, fuser.trajectory().size() - 1);
     feed(fuser, truth, 191, 300);  // 1.5 s
@@ -236,6 +245,72 @@ Truth wandering_motion(const Eigen::Vector3d& accel_bias) {
   return truth;
 }
 
+TEST(ImuFuser, ACorrectionGivesTheSameTrajectoryWhicheverSamplesArriveBeforeIt) {
+  // Live, a scan's registration reaches the fuser some IMU samples after the
+  // scan ends: how many depends on thread timing (a lossless replay holds
+  // the fuser at the first sample past the scan's end). Each scan is
+  // registered 0.3 mm and 0.05° off the truth, so every correction moves the
+  // estimate; the gyro and the accelerometer clip, and the accelerometer
+  // levels for a while, so every way of stepping the attitude is taken again.
+  Truth truth = wandering_motion(Eigen::Vector3d(0.1, -0.05, 0.02));
+  // A yaw of 0.3 rad/s, and of 9 rad/s (above the gyro's range) from 0.5 to 1 s into the motion.
+  auto tau = [](double t) { return std::max(0.0, t - kMotionStart); };
+  truth.q_wi = [=](double t) {
+    const double angle = 0.3 * tau(t) + 8.7 * std::clamp(tau(t) - 0.5, 0.0, 0.5);
+    return Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()));
+  };
+  truth.omega_i = [=](double t) {
+    const bool fast = tau(t) > 0.5 && tau(t) <= 1.0;
+    return Eigen::Vector3d(0, 0, t > kMotionStart ? (fast ? 9.0 : 0.3) : 0.0);
+  };
+  const Eigen::Quaterniond offset(Eigen::AngleAxisd(0.0009, Eigen::Vector3d(1, 2, 3).normalized()));
+  auto sample = [&](int n) {
+    ImuSample s = sample_at(truth, sample_time(n));
+    for (int k = 0; k < 3; ++k) {
+      s.gyro_saturated[k] = std::abs(s.gyro_rad_s[k]) > 7.85;
+      if (s.gyro_saturated[k]) s.gyro_rad_s[k] = std::copysign(7.85, s.gyro_rad_s[k]);
+      s.accel_saturated[k] = std::abs(s.accel_m_s2[k]) > 3.0 && k != 2;
+      if (s.accel_saturated[k]) s.accel_m_s2[k] = std::copysign(3.0, s.accel_m_s2[k]);
+    }
+    return s;
+  };
+  auto run = [&](int samples_before_correction) {
+    ImuFuser fuser(ImuFuserParams{});
+    int fed = -1;
+    auto feed_to = [&](int n) {
+      for (; fed < n; ++fed) fuser.add_imu(sample(fed + 1));
+    };
+    feed_to(120);
+    for (int scan = 0; scan < 30; ++scan) {
+      const int first = 120 + 10 * scan;
+      feed_to(first + 10 + samples_before_correction);
+      const double t_scan = sample_time(first) + 0.005;
+      // Scans 10-19 are weakly constrained: they do not level, so from 0.5 s
+      // after scan 9 the accelerometer steps the attitude again.
+      const double expected_error_m = scan >= 10 && scan < 20 ? 0.1 : 0.0;
+      correct_scan(fuser, t_scan,
+                   pose_of(offset * truth.q_wi(t_scan), truth.p_w(t_scan) + Eigen::Vector3d(3e-4, 0, 0)), 0.01,
+                   false, expected_error_m);
+    }
+    feed_to(120 + 10 * 30 + 20);
+    EXPECT_GT(fuser.stats().accel_saturated_samples, 0u);
+    EXPECT_GT(fuser.stats().gyro_samples_from_lidar, 0u);
+    return fuser.trajectory();
+  };
+  const Trajectory first_seen = run(1);  // the lossless replay's
+  for (const int late : {2, 5, 9}) {
+    SCOPED_TRACE(late);
+    const Trajectory later = run(late);
+    ASSERT_EQ(later.size(), first_seen.size());
+    for (std::size_t i = 0; i < later.size(); ++i) {
+      ASSERT_EQ(later[i].t_s, first_seen[i].t_s) << i;
+      ASSERT_EQ(later[i].p_w, first_seen[i].p_w) << i;
+      ASSERT_EQ(later[i].q_wl.coeffs(), first_seen[i].q_wl.coeffs()) << i;
+      ASSERT_EQ(later[i].v_w, first_seen[i].v_w) << i;
+    }
+  }
+}
+
 TEST(ImuFuser, VelocityFilterTracksAPerfectLidarAndRemovesABiasDrift) {
   const Truth truth = wandering_motion(Eigen::Vector3d(0.2, 0.0, 0.0));
   ImuFuser corrected(device_attitude_params());
@@ -249,7 +324,7 @@ TEST(ImuFuser, VelocityFilterTracksAPerfectLidarAndRemovesABiasDrift) {
     feed(corrected, truth, n_start + 1, n_start + 10);
     const double t_scan = sample_time(n_start) - 0.004;
     const CorrectionResult result =
-        corrected.correct_with_registered_pose(t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 0.002);
+        correct_scan(corrected, t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 0.002);
     ASSERT_TRUE(result.pose_reset);
     ASSERT_EQ(result.velocity_updated, scan > 0);
   }
@@ -281,7 +356,7 @@ TEST(ImuFuser, LidarMeanVelocityIsAppliedAtTheMidIntervalTime) {
   const double t_scan = t_previous + 0.1;
   const double t_mid = 0.5 * (t_previous + t_scan);  // kMotionStart + 1.253
   feed(fuser, truth, 0, 255);                          // to t_previous + 0.1
-  fuser.correct_with_registered_pose(t_previous, pose_of(truth.q_wi(t_previous), truth.p_w(t_previous)), 1e-6);
+  correct_scan(fuser, t_previous, pose_of(truth.q_wi(t_previous), truth.p_w(t_previous)), 1e-6);
   feed(fuser, truth, 256, 265);                        // to t_scan + 0.1
   const std::size_t before_mid = sample_before(fuser.trajectory(), t_mid);
   const TrajectorySample& last_before_mid = fuser.trajectory()[before_mid];
@@ -290,7 +365,7 @@ TEST(ImuFuser, LidarMeanVelocityIsAppliedAtTheMidIntervalTime) {
   ASSERT_NEAR(error_before, 0.485, 1e-6);
 
   const CorrectionResult result =
-      fuser.correct_with_registered_pose(t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 1e-6);
+      correct_scan(fuser, t_scan, pose_of(truth.q_wi(t_scan), truth.p_w(t_scan)), 1e-6);
   ASSERT_TRUE(result.velocity_updated);
   EXPECT_LT(result.rewritten_after_s, t_mid);
   const Trajectory& trajectory = fuser.trajectory();
@@ -327,13 +402,13 @@ TEST(ImuFuser, ConsistentCorrectionLeavesTheTrajectoryUnchanged) {
   // Kick the filter to the true velocity with one exact pair of corrections.
   feed(fuser, truth, 120, 160);
   for (const double t : {kMotionStart + 0.203, kMotionStart + 0.303}) {
-    fuser.correct_with_registered_pose(t, pose_of(Eigen::Quaterniond::Identity(), truth.p_w(t)), 1e-9);
+    correct_scan(fuser, t, pose_of(Eigen::Quaterniond::Identity(), truth.p_w(t)), 1e-9);
   }
   feed(fuser, truth, 161, 200);
   const Trajectory before = fuser.trajectory();
   const double t_scan = kMotionStart + 0.403;
   const Eigen::Isometry3d fused = before.pose_at(t_scan);
-  const CorrectionResult result = fuser.correct_with_registered_pose(t_scan, fused, 0.01);
+  const CorrectionResult result = correct_scan(fuser, t_scan, fused, 0.01);
   ASSERT_TRUE(result.velocity_updated);
   const Trajectory& after = fuser.trajectory();
   ASSERT_EQ(after.size(), before.size() + 1);  // plus the registered pose at t_scan
@@ -358,7 +433,7 @@ TEST(ImuFuser, PoseCorrectionReanchorsAtTheScanStartWithoutLaterJumps) {
       Eigen::Quaterniond(Eigen::AngleAxisd(0.2, Eigen::Vector3d::UnitZ())) * truth.q_wi(t_scan);
   const Eigen::Isometry3d registered = pose_of(q_registered, truth.p_w(t_scan));
   ASSERT_GT((registered.translation() - before.pose_at(t_scan).translation()).norm(), 0.05);
-  fuser.correct_with_registered_pose(t_scan, registered, 0.01);
+  correct_scan(fuser, t_scan, registered, 0.01);
   const Trajectory& after = fuser.trajectory();
 
   // Through the registered pose at the scan start...
@@ -413,7 +488,7 @@ TEST(ImuFuser, SaturationIsFlaggedPerLidarAxisAndAccelClipsLastUntilTheNextVeloc
   feed(fuser, truth, 171, 400);
   for (const int n : {250, 260}) {
     const double t = sample_time(n);
-    fuser.correct_with_registered_pose(t, fuser.trajectory().pose_at(t), 0.01);
+    correct_scan(fuser, t, fuser.trajectory().pose_at(t), 0.01);
   }
   const Trajectory& trajectory = fuser.trajectory();
   EXPECT_TRUE(trajectory[sample_before(trajectory, sample_time(254))].accel_saturated[0]);
@@ -460,7 +535,7 @@ double run_scans(ImuFuser& fuser, const ClippedYaw& yaw,
     const int scan_start = 200 + 10 * k;
     for (; fed < scan_start + 15; ++fed) fuser.add_imu(yaw.sample(fed + 1));
     const double t = sample_time(scan_start);
-    fuser.correct_with_registered_pose(t, pose_of(registered_q(t), Eigen::Vector3d::Zero()), 0.01);
+    correct_scan(fuser, t, pose_of(registered_q(t), Eigen::Vector3d::Zero()), 0.01);
   }
   const TrajectorySample& newest = fuser.trajectory().back();
   return angle_deg(newest.q_wl, yaw.truth.q_wi(newest.t_s));
@@ -500,16 +575,16 @@ TEST(ImuFuser, RejectsCorrectionsItCannotPlaceAndOutOfOrderSamples) {
   Truth truth;
   ImuFuser fuser(ImuFuserParams{});
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
-  EXPECT_FALSE(fuser.correct_with_registered_pose(kT0, identity, 0.01).pose_reset);
+  EXPECT_FALSE(correct_scan(fuser, kT0, identity, 0.01).pose_reset);
   EXPECT_EQ(fuser.stats().corrections_before_init, 1u);
   feed(fuser, truth, 0, 200);
   fuser.add_imu(sample_at(truth, sample_time(150)));
   EXPECT_EQ(fuser.stats().samples_out_of_order, 1u);
-  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(250), identity, 0.01).pose_reset);  // newer than the IMU
+  EXPECT_FALSE(correct_scan(fuser, sample_time(250), identity, 0.01).pose_reset);  // newer than the IMU
   EXPECT_EQ(fuser.stats().anchors_while_imu_silent, 1u);  // kept for an IMU gap, not applied
-  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(50), identity, 0.01).pose_reset);   // before the history
+  EXPECT_FALSE(correct_scan(fuser, sample_time(50), identity, 0.01).pose_reset);   // before the history
   EXPECT_EQ(fuser.stats().corrections_outside_history, 1u);
-  const CorrectionResult result = fuser.correct_with_registered_pose(sample_time(180), identity, 0.01);
+  const CorrectionResult result = correct_scan(fuser, sample_time(180), identity, 0.01);
   EXPECT_TRUE(result.pose_reset);
   EXPECT_TRUE(std::isfinite(result.rewritten_after_s));
 }
@@ -524,8 +599,8 @@ TEST(ImuFuser, BuffersStayBounded) {
   EXPECT_EQ(fuser.trajectory().size(), 32u);
   EXPECT_DOUBLE_EQ(fuser.trajectory().t_end_s(), sample_time(2000));
   // A correction older than the 64-sample history cannot be placed.
-  EXPECT_FALSE(fuser.correct_with_registered_pose(sample_time(1900), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
-  EXPECT_TRUE(fuser.correct_with_registered_pose(sample_time(1990), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
+  EXPECT_FALSE(correct_scan(fuser, sample_time(1900), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
+  EXPECT_TRUE(correct_scan(fuser, sample_time(1990), Eigen::Isometry3d::Identity(), 0.01).pose_reset);
 }
 
 }  // namespace
@@ -546,8 +621,8 @@ TEST(ImuFuser, StartsAgainFromTheRegisteredPosesAfterAnImuGap) {
   Eigen::Isometry3d b = a;
   b.translation() = Eigen::Vector3d(1.1, 0.0, 0.0);
   b.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  fuser.correct_with_registered_pose(sample_time(220), a, 0.01);
-  fuser.correct_with_registered_pose(sample_time(230), b, 0.01);
+  correct_scan(fuser, sample_time(220), a, 0.01);
+  correct_scan(fuser, sample_time(230), b, 0.01);
   EXPECT_EQ(fuser.stats().anchors_while_imu_silent, 2u);
   fuser.add_imu(sample_at(truth, sample_time(240)));  // back after 0.4 s
   EXPECT_EQ(fuser.stats().reanchors, 1u);
