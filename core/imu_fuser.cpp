@@ -359,12 +359,13 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
   trajectory_.truncate_after(t);
   // After the reset the attitude is rebuilt step by step (header, 2), the
   // newest lidar rate where the gyro was clipped. Up to the first sample at
-  // or after the scan's end: the gyro alone where the accelerometer is left
-  // out, else Madgwick's step as taken. After it, each step is taken again
-  // from the corrected attitude, with the bits add_imu() would use had the
-  // correction come at that sample: a sample added after the correction came
-  // gets the same bits as one added before it. The device's own attitude
-  // keeps its steps as taken.
+  // or after the scan's end (where a lossless replay holds the fuser until
+  // the registration is done): the gyro alone where the accelerometer is
+  // left out, else Madgwick's step as taken. After it, each step is taken
+  // again from the corrected attitude with the bits add_imu() uses, as if
+  // the correction had come at that sample: a sample added after the
+  // correction came gets the same bits as one rebuilt here. The device's
+  // own attitude keeps its steps as taken.
   std::size_t scan_end = base + 1;
   while (scan_end + 1 < history_.size() && history_[scan_end].t_s < reset.t_scan_end_s) ++scan_end;
   std::optional<Eigen::Quaterniond> previous_q_before, previous_q_after;
@@ -385,9 +386,9 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
                          : (reset.correction * q_before).normalized();
       } else if (n > scan_end && !params_.attitude_from_device) {
         if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
-        // Had the correction come at the scan's end, the filter would have
-        // been set (normalised) to that sample's attitude, as at the end of
-        // this function, then stepped on from its own output.
+        // The correction sets the filter (normalised) to the newest attitude
+        // it finds, as at the end of this function; add_imu() then steps on
+        // from the filter's own output.
         if (n == scan_end + 1) {
           attitude.set_orientation(*previous_q_after);
         } else {
@@ -405,10 +406,13 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
       previous_q_after = entry.q_wi;
       entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
     }
-    // Advances the state to an event time inside (t_previous, entry.t_s].
+    // Advances the state to an event time inside (t_previous, entry.t_s];
+    // at the sample itself with its own acceleration, as add_imu() does
+    // (a + (b − a) need not be b).
     auto advance_to = [&](double t_event) {
       const double u = (t_event - t_previous) / (entry.t_s - t_previous);
-      const Eigen::Vector3d accel_event = accel_previous + u * (entry.accel_w - accel_previous);
+      const Eigen::Vector3d accel_event =
+          t_event == entry.t_s ? entry.accel_w : Eigen::Vector3d(accel_previous + u * (entry.accel_w - accel_previous));
       integrate(state, accel_at_t, accel_event, t_event - t);
       t = t_event;
       accel_at_t = accel_event;

@@ -31,8 +31,9 @@
 //    after the scan's end (the ones a lossless replay holds when the
 //    registration is done) and takes every later step again from the
 //    corrected attitude, as a sample arriving after the correction is
-//    stepped: the result is that of a registration that took no time,
-//    however many samples came first (thread timing, live).
+//    stepped: the result is that of a registration done at that sample,
+//    however many samples came first (thread timing, live). Not with the
+//    device's attitude, whose re-based steps keep their bits as taken.
 // 3. Velocity: a linear Kalman filter per W axis: state v, input the
 //    gravity-free acceleration a_W = R_WI f + g (trapezoid), process noise
 //    PSD = accel_noise_density² + accel_unmodelled² · 1 s. The second term is
@@ -53,9 +54,10 @@
 // 5. Pose correction: the registered pose is more accurate than integration,
 //    so the fuser is re-anchored at the scan start t_k: position set to the
 //    registered one there, attitude rotated by ΔR = R_reg(t_k) R_fused(t_k)⁻¹
-//    for every sample after t_k (the gyro's relative rotation is kept) and
-//    the velocity after t_k re-integrated with the corrected attitude. The
-//    trajectory gets a sample at t_k itself, so it passes exactly through the
+//    for the samples from t_k to the first one past the scan's end (the
+//    gyro's relative rotation is kept; later samples are stepped again, 2)
+//    and the velocity after t_k re-integrated with the corrected attitude.
+//    The trajectory gets a sample at t_k itself, so it passes exactly through the
 //    registered pose there (a later re-propagation that starts before t_k
 //    rebuilds from the IMU samples and drops it; that scan is registered by
 //    then); the only discontinuity is in the IMU interval that ends at t_k,
@@ -71,7 +73,8 @@
 //    (constant velocity), when it has the clipped reading's sign and a larger
 //    magnitude; otherwise the clipped value (the reading is a lower bound).
 //    Each correction re-integrates the clipped samples after the registered
-//    scan with the new rate (the other samples keep Madgwick's steps).
+//    scan with the new rate (the other samples up to the scan's end keep
+//    Madgwick's steps, 2).
 //    Clipping is flagged through to the samples: gyro clipping per lidar
 //    axis for that sample; accelerometer clipping adds process noise
 //    (saturated_accel_sigma along the clipped axis in W) and marks the W axes
@@ -175,7 +178,9 @@ class ImuFuser {
   // uncertainty, m). Feeds the velocity filter with the mean velocity since
   // the previous registered pose and re-anchors the trajectory (see the
   // header). Call in scan order, after the IMU data covers t_scan_start_s
-  // (the pipeline needs that to de-skew anyway).
+  // (the pipeline needs that to de-skew anyway); once it reaches
+  // t_scan_end_s, the result no longer depends on how far past it the
+  // samples go.
   // It levels the attitude (header, 2) unless it starts a new map (map_start:
   // the prediction itself) or its expected error (ScanResult::expected_error_icp_m) is above
   // levelling_max_expected_error_m; it re-anchors either way.
