@@ -282,55 +282,52 @@ Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
   return a.q_wi.slerp((t_s - a.t_s) / (b.t_s - a.t_s), b.q_wi);
 }
 
-CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, double t_scan_end_s,
-                                                        const Eigen::Isometry3d& T_wl, double position_sigma_m,
-                                                        bool map_start, double expected_error_m) {
+CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& scan) {
   CorrectionResult result;
   if (!initialized_) {
     ++stats_.corrections_before_init;
     return result;
   }
-  if (t_scan_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
-    const RegisteredPose pose{t_scan_start_s, T_wl * params_.T_li.translation(),
-                              (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized(), position_sigma_m};
-    if (!anchor_ || t_scan_start_s > anchor_->t_s) {
+  if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
+    const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
+                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m};
+    if (!anchor_ || scan.t_start_s > anchor_->t_s) {
       previous_anchor_ = anchor_;
       anchor_ = pose;
       ++stats_.anchors_while_imu_silent;
       return result;
     }
   }
-  if (!(t_scan_start_s > history_.front().t_s && t_scan_start_s <= history_.back().t_s)) {
+  if (!(scan.t_start_s > history_.front().t_s && scan.t_start_s <= history_.back().t_s)) {
     ++stats_.corrections_outside_history;
     return result;
   }
   anchor_.reset();
   previous_anchor_.reset();
 
-  const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(T_wl.rotation()) * q_li_).normalized();
+  const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized();
   PoseReset reset;
-  reset.t_s = t_scan_start_s;
-  reset.t_scan_end_s = t_scan_end_s;
-  reset.correction = (q_wi_registered * attitude_at(t_scan_start_s).conjugate()).normalized();
+  reset.t_s = scan.t_start_s;
+  reset.t_scan_end_s = scan.t_end_s;
+  reset.correction = (q_wi_registered * attitude_at(scan.t_start_s).conjugate()).normalized();
   reset.q_wi = q_wi_registered;
-  reset.p_wi = T_wl * params_.T_li.translation();
-  if (!map_start && expected_error_m <= params_.levelling_max_expected_error_m) {
-    newest_levelling_s_ = std::max(newest_levelling_s_.value_or(t_scan_start_s), t_scan_start_s);
+  reset.p_wi = scan.T_wl * params_.T_li.translation();
+  if (!scan.map_start && scan.expected_error_m <= params_.levelling_max_expected_error_m) {
+    newest_levelling_s_ = std::max(newest_levelling_s_.value_or(scan.t_start_s), scan.t_start_s);
   }
 
   std::optional<VelocityMeasurement> velocity;
   if (previous_registration_) {
     const RegisteredPose& previous = *previous_registration_;
-    const double dt = t_scan_start_s - previous.t_s;
+    const double dt = scan.t_start_s - previous.t_s;
     if (dt <= 0.0 || dt > params_.max_lidar_interval_s || previous.t_s < history_.front().t_s) {
       ++stats_.velocity_updates_skipped;
     } else {
       const Eigen::Vector3d lidar_mean = (reset.p_wi - previous.p_wi) / dt;
       const Eigen::Vector3d filter_mean =
-          (state_at(t_scan_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
-      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
-                                     (position_sigma_m * position_sigma_m + previous.sigma_m * previous.sigma_m) /
-                                         (dt * dt)};
+          (state_at(scan.t_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
+      const double variance_m2 = scan.position_sigma_m * scan.position_sigma_m + previous.sigma_m * previous.sigma_m;
+      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean, variance_m2 / (dt * dt)};
       const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
       lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
     }
@@ -339,7 +336,7 @@ CorrectionResult ImuFuser::correct_with_registered_pose(double t_scan_start_s, d
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
   repropagate(velocity, reset);
-  previous_registration_ = RegisteredPose{t_scan_start_s, reset.p_wi, q_wi_registered, position_sigma_m};
+  previous_registration_ = RegisteredPose{scan.t_start_s, reset.p_wi, q_wi_registered, scan.position_sigma_m};
 
   result.pose_reset = true;
   result.velocity_updated = velocity.has_value();

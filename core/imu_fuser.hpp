@@ -165,6 +165,16 @@ struct CorrectionResult {
   double rewritten_after_s = std::numeric_limits<double>::quiet_NaN();
 };
 
+// A registered scan, as the fuser takes it.
+struct ScanCorrection {
+  double t_start_s = 0.0;  // the scan's first point: the time of T_wl
+  double t_end_s = 0.0;    // its last point
+  Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();  // the registered lidar pose at t_start_s
+  double position_sigma_m = 0.0;  // the registration's residual mapped to a pose uncertainty
+  bool map_start = false;         // it started a new map: its pose is the prediction itself
+  double expected_error_m = 0.0;  // ScanResult::expected_error_icp_m
+};
+
 class ImuFuser {
  public:
   explicit ImuFuser(const ImuFuserParams& params);
@@ -172,21 +182,16 @@ class ImuFuser {
   // One IMU sample (times must increase; others are dropped and counted).
   void add_imu(const ImuSample& sample);
 
-  // The registration's result for the scan from t_scan_start_s to
-  // t_scan_end_s (its last point): the lidar pose T_WL at the start and its
-  // position sigma (the registration's residual mapped to a pose
-  // uncertainty, m). Feeds the velocity filter with the mean velocity since
-  // the previous registered pose and re-anchors the trajectory (see the
-  // header). Call in scan order, after the IMU data covers t_scan_start_s
-  // (the pipeline needs that to de-skew anyway); once it reaches
-  // t_scan_end_s, the result no longer depends on how far past it the
-  // samples go.
-  // It levels the attitude (header, 2) unless it starts a new map (map_start:
-  // the prediction itself) or its expected error (ScanResult::expected_error_icp_m) is above
-  // levelling_max_expected_error_m; it re-anchors either way.
-  CorrectionResult correct_with_registered_pose(double t_scan_start_s, double t_scan_end_s,
-                                                const Eigen::Isometry3d& T_wl, double position_sigma_m,
-                                                bool map_start = false, double expected_error_m = 0.0);
+  // The registration's result for a scan (ScanCorrection). Feeds the
+  // velocity filter with the mean velocity since the previous registered
+  // pose and re-anchors the trajectory (see the header). Call in scan order,
+  // after the IMU data covers the scan's start (the pipeline needs that to
+  // de-skew anyway); once it reaches the scan's end, the result no longer
+  // depends on how far past it the samples go.
+  // It levels the attitude (header, 2) unless it starts a new map or its
+  // expected error is above levelling_max_expected_error_m; it re-anchors
+  // either way.
+  CorrectionResult correct_with_registered_pose(const ScanCorrection& scan);
 
   bool initialized() const { return initialized_; }
   const Trajectory& trajectory() const { return trajectory_; }

@@ -100,8 +100,12 @@ bool Odometry::process(const Scan& scan) {
 
   const double mark = now();
   if (result.registered)
-    fuser_.correct_with_registered_pose(result.t_scan_start_s, result.t_scan_end_s, result.T_wl,
-                                        result.position_sigma_m, result.map_initialised, result.expected_error_icp_m);
+    fuser_.correct_with_registered_pose({.t_start_s = result.t_scan_start_s,
+                                         .t_end_s = result.t_scan_end_s,
+                                         .T_wl = result.T_wl,
+                                         .position_sigma_m = result.position_sigma_m,
+                                         .map_start = result.map_initialised,
+                                         .expected_error_m = result.expected_error_icp_m});
   result.v_w = velocity_at(result.t_scan_start_s);
   if (result.timings.measured) {
     result.timings.fuser_correction_s = now() - mark;

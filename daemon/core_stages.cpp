@@ -137,13 +137,15 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   // The registered pose's published covariance: it grows where the scan hardly constrains the pose.
   for (std::size_t k = 0; k < 3; ++k) position_var_m2_[k] = registration.covariance[k * 7];
   const auto& q = registration.orientation_wxyz;
-  Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();
-  T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-  T_wl.translation() =
+  ScanCorrection scan{.t_start_s = registration.t_s,
+                      .t_end_s = registration.t_end_s,
+                      .position_sigma_m = registration.position_sigma_m,
+                      .map_start = registration.map_initialised,
+                      .expected_error_m = registration.expected_error_icp_m};
+  scan.T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
+  scan.T_wl.translation() =
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
-  const CorrectionResult result =
-      fuser_.correct_with_registered_pose(registration.t_s, registration.t_end_s, T_wl, registration.position_sigma_m,
-                                          registration.map_initialised, registration.expected_error_icp_m);
+  const CorrectionResult result = fuser_.correct_with_registered_pose(scan);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:

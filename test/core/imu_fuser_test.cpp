@@ -67,8 +67,12 @@ Eigen::Isometry3d pose_of(const Eigen::Quaterniond& q, const Eigen::Vector3d& p)
 // The registration of the scan that starts at t_scan_s and lasts kScanS.
 CorrectionResult correct_scan(ImuFuser& fuser, double t_scan_s, const Eigen::Isometry3d& T_wl, double position_sigma_m,
                               bool map_start = false, double expected_error_m = 0.0) {
-  return fuser.correct_with_registered_pose(t_scan_s, t_scan_s + kScanS, T_wl, position_sigma_m, map_start,
-                                            expected_error_m);
+  return fuser.correct_with_registered_pose({.t_start_s = t_scan_s,
+                                             .t_end_s = t_scan_s + kScanS,
+                                             .T_wl = T_wl,
+                                             .position_sigma_m = position_sigma_m,
+                                             .map_start = map_start,
+                                             .expected_error_m = expected_error_m});
 }
 
 // Index of the last trajectory sample at or before t.
