@@ -83,7 +83,7 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   if (trajectory) publisher.add_observer(*trajectory);
   std::optional<ScanLog> scan_log;
   if (options.scan_log) {
-    scan_log.emplace(*options.scan_log, stage_names);
+    scan_log.emplace(*options.scan_log, stage_names, config.daemon.health);
     publisher.add_observer(*scan_log);
   }
   StatusAggregator status(config.daemon.health, stage_names, pipeline.rings(), pipeline.counters(),

@@ -7,6 +7,8 @@
 #include <limits>
 #include <utility>
 
+#include "daemon/scan_verdict.hpp"
+
 namespace tumble::daemon {
 
 namespace {
@@ -42,18 +44,6 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
   stage_ms_.resize(stage_names_.size());
 }
 
-// A registration not used (untrusted: far from the IMU-propagated pose) may
-// have converged well: it is still no evidence that tracking holds.
-ScanVerdict StatusAggregator::verdict(const RegistrationRecord& r) const {
-  if (r.map_deferred) return ScanVerdict::MapDeferred;
-  if (r.spin_rate_unmeasured) return ScanVerdict::SpinRateUnmeasured;
-  if (r.direction_unobserved) return ScanVerdict::DirectionUnobserved;
-  if (weakly_constrained(r, health_.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
-  const bool good = r.registered && r.converged && r.matched_ratio >= health_.min_matched_ratio &&
-                    r.degeneracy >= health_.min_degeneracy;
-  return good ? ScanVerdict::Good : ScanVerdict::PoorRegistration;
-}
-
 void StatusAggregator::drain_scan_reports(std::uint64_t until) {
   while (reports_consumed_ < until && scan_reports_.pop_with([this](const RegistrationRecord& r) {
     const std::size_t stages = std::min<std::size_t>(r.num_stages, stage_ms_.size());
@@ -69,7 +59,7 @@ void StatusAggregator::drain_scan_reports(std::uint64_t until) {
     }
     if (r.map_initialised) new_map_at_resets_ = r.resets;
     if (r.registered) expected_error_max_m_ = std::max(expected_error_max_m_, r.expected_error_m);
-    const ScanVerdict v = verdict(r);
+    const ScanVerdict v = scan_verdict(r, health_);
     consecutive_good_scans_ = v == ScanVerdict::Good ? consecutive_good_scans_ + 1 : 0;
     worst_scan_in_period_ = std::max(worst_scan_in_period_, v);
   })) {

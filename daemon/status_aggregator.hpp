@@ -66,7 +66,6 @@ class StatusAggregator {
  private:
   static constexpr std::size_t kWindow = 64;  // scans per period kept for medians (10 Hz lidar: 10)
 
-  ScanVerdict verdict(const RegistrationRecord& r) const;
   void drain_scan_reports(std::uint64_t until);  // until: the report count to reach (scan_reports_ pushes)
   std::uint64_t sensor_drops() const;  // lost sensor data: dropped scans and sensor-ring drops
   // *_silent_s: since the sensor's newest data (infinity before any).

@@ -61,7 +61,48 @@ double mean(const std::vector<double>& values) {
   return sum / static_cast<double>(values.size());
 }
 
-bool flagged(const ScanIntegrity& scan, double threshold_m) { return !(scan.expected_error_m <= threshold_m); }
+// One row of the detector table: a flag rule scored over every run.
+struct DetectorRow {
+  std::size_t good_scans = 0, good_flagged = 0, noisy_good_runs = 0, bad_flagged = 0;
+  std::size_t slipped = 0, slipped_flagged = 0, others = 0, others_flagged = 0;
+  std::vector<std::string> missed;  // runs over the bad-run limit never flagged
+};
+
+template <class Flag>
+DetectorRow score_detector(const std::vector<RunIntegrity>& runs, const DetectorLimits& limits, Flag&& flagged) {
+  DetectorRow row;
+  char text[256];
+  for (const RunIntegrity& run : runs) {
+    std::size_t run_flagged = 0;
+    for (const ScanIntegrity& scan : run.scans) {
+      const bool flag = flagged(scan);
+      run_flagged += flag ? 1 : 0;
+      if (std::isnan(scan.window_error_m)) continue;
+      if (scan.window_error_m > limits.slipped_m) {
+        ++row.slipped;
+        row.slipped_flagged += flag ? 1 : 0;
+      } else {
+        ++row.others;
+        row.others_flagged += flag ? 1 : 0;
+      }
+    }
+    if (run.error_cm_per_m < limits.good_run_cm_per_m) {
+      row.good_flagged += run_flagged;
+      row.good_scans += run.scans.size();
+      if (static_cast<double>(run_flagged) > limits.good_run_flag_share * static_cast<double>(run.scans.size()))
+        ++row.noisy_good_runs;
+    } else if (!(run.error_cm_per_m <= limits.bad_run_cm_per_m)) {
+      if (run_flagged > 0) {
+        ++row.bad_flagged;
+      } else {
+        std::snprintf(text, sizeof text, "%s (%.2f cm/m over %.2f m)", run.name.c_str(), run.error_cm_per_m,
+                      run.distance_m);
+        row.missed.push_back(text);
+      }
+    }
+  }
+  return row;
+}
 
 std::string percent(std::size_t part, std::size_t whole) {
   char text[32];
@@ -83,6 +124,7 @@ std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const Pos
   const auto& xy = log.column("cov_txy");
   const auto& xz = log.column("cov_txz");
   const auto& yz = log.column("cov_tyz");
+  const std::vector<double>* good = log.has_column("good_scan") ? &log.column("good_scan") : nullptr;
   std::vector<RegisteredScan> history;  // the registered scans so far (none after an unregistered one)
   std::vector<ScanIntegrity> out;
   for (std::size_t i = 0; i < log.scans(); ++i) {
@@ -96,6 +138,8 @@ std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const Pos
                         expected[i]};
     scan.covariance << xx[i], xy[i], xz[i], xy[i], yy[i], yz[i], xz[i], yz[i], zz[i];
     const bool map_start = iterations[i] == 0.0;
+    const std::optional<bool> good_scan =
+        good ? std::optional<bool>((*good)[i] != 0.0) : std::nullopt;
     if (!map_start && !history.empty()) {
       const RegisteredScan& previous = history.back();
       ScanIntegrity s;
@@ -104,6 +148,7 @@ std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const Pos
       s.increment_error_m = error.norm();
       s.window_error_m = history.size() >= window ? increment_error_w(history[history.size() - window], scan).norm() : kNaN;
       s.nees_per_dof = nees_per_dof(error, previous.covariance + scan.covariance);
+      s.good_scan = good_scan;
       out.push_back(s);
     }
     if (map_start) history.clear();
@@ -131,52 +176,46 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
                 "cm/m flagged | slipped scans flagged | other scans flagged |\n|---|---|---|---|---|---|\n",
                 limits.good_run_cm_per_m, limits.good_run_flag_share * 100.0, limits.bad_run_cm_per_m);
   md += text;
-  std::vector<std::string> missed_at_first;
+  const auto add_row = [&](const std::string& label, const DetectorRow& row) {
+    std::snprintf(text, sizeof text, "| %s | %s (%zu of %zu) | %zu of %zu | %zu of %zu | %s | %s |\n", label.c_str(),
+                  percent(row.good_flagged, row.good_scans).c_str(), row.good_flagged, row.good_scans,
+                  row.noisy_good_runs, good_runs, row.bad_flagged, bad_runs,
+                  percent(row.slipped_flagged, row.slipped).c_str(), percent(row.others_flagged, row.others).c_str());
+    md += text;
+  };
+  const auto add_missed = [&](const std::string& label, const DetectorRow& row) {
+    if (row.missed.empty()) return;
+    std::snprintf(text, sizeof text, "\nRuns over %.3g cm/m never flagged %s:", limits.bad_run_cm_per_m, label.c_str());
+    md += text;
+    for (std::size_t i = 0; i < row.missed.size(); ++i) md += (i == 0 ? " " : "; ") + row.missed[i];
+    md += ".\n";
+  };
+  DetectorRow first;
   for (std::size_t k = 0; k < thresholds_m.size(); ++k) {
     const double threshold = thresholds_m[k];
-    std::size_t good_flagged = 0, good_scans = 0, noisy_good_runs = 0, bad_flagged = 0;
-    std::size_t slipped = 0, slipped_flagged = 0, others = 0, others_flagged = 0;
-    for (const RunIntegrity& run : runs) {
-      std::size_t run_flagged = 0;
-      for (const ScanIntegrity& scan : run.scans) {
-        const bool flag = flagged(scan, threshold);
-        run_flagged += flag ? 1 : 0;
-        if (std::isnan(scan.window_error_m)) continue;
-        if (scan.window_error_m > limits.slipped_m) {
-          ++slipped;
-          slipped_flagged += flag ? 1 : 0;
-        } else {
-          ++others;
-          others_flagged += flag ? 1 : 0;
-        }
-      }
-      if (run.error_cm_per_m < limits.good_run_cm_per_m) {
-        good_flagged += run_flagged;
-        good_scans += run.scans.size();
-        if (static_cast<double>(run_flagged) > limits.good_run_flag_share * static_cast<double>(run.scans.size()))
-          ++noisy_good_runs;
-      } else if (!(run.error_cm_per_m <= limits.bad_run_cm_per_m)) {
-        if (run_flagged > 0) {
-          ++bad_flagged;
-        } else if (k == 0) {
-          std::snprintf(text, sizeof text, "%s (%.2f cm/m over %.2f m)", run.name.c_str(), run.error_cm_per_m,
-                        run.distance_m);
-          missed_at_first.push_back(text);
-        }
-      }
-    }
-    std::snprintf(text, sizeof text, "| %.3g m | %s (%zu of %zu) | %zu of %zu | %zu of %zu | %s | %s |\n", threshold,
-                  percent(good_flagged, good_scans).c_str(), good_flagged, good_scans, noisy_good_runs, good_runs,
-                  bad_flagged, bad_runs, percent(slipped_flagged, slipped).c_str(),
-                  percent(others_flagged, others).c_str());
-    md += text;
+    const DetectorRow row = score_detector(
+        runs, limits, [&](const ScanIntegrity& scan) { return !(scan.expected_error_m <= threshold); });
+    std::snprintf(text, sizeof text, "%.3g m", threshold);
+    add_row(text, row);
+    if (k == 0) first = row;
   }
-  if (!missed_at_first.empty() && !thresholds_m.empty()) {
-    std::snprintf(text, sizeof text, "\nRuns over %.3g cm/m never flagged at %.3g m:", limits.bad_run_cm_per_m,
-                  thresholds_m.front());
-    md += text;
-    for (std::size_t i = 0; i < missed_at_first.size(); ++i) md += (i == 0 ? " " : "; ") + missed_at_first[i];
-    md += ".\n";
+  bool every_scan_judged = true;
+  for (const RunIntegrity& run : runs)
+    for (const ScanIntegrity& scan : run.scans) every_scan_judged = every_scan_judged && scan.good_scan.has_value();
+  std::optional<DetectorRow> verdict;
+  if (every_scan_judged) {
+    verdict = score_detector(runs, limits, [](const ScanIntegrity& scan) { return !*scan.good_scan; });
+    add_row("tumbled's verdict", *verdict);
+  }
+  if (!thresholds_m.empty()) {
+    std::snprintf(text, sizeof text, "at %.3g m", thresholds_m.front());
+    add_missed(text, first);
+  }
+  if (verdict) add_missed("by tumbled's verdict", *verdict);
+  if (every_scan_judged) {
+    md += "\nThe verdict row flags a scan wherever tumbled judged it not good (the scan log's good_scan: the "
+          "expected error over daemon.health.max_expected_error_m of the run's config, the gyro clipped about the "
+          "spin axis, a direction unobserved, a poor registration): what puts tumbled in `degraded`.\n";
   }
   md += "\nNEES per degree of freedom of the published position covariance, against each one-scan increment's "
         "error (consistent: mean near 1):\n\n| runs | scans | mean | median |\n|---|---|---|---|\n";

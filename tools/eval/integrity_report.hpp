@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,11 +27,15 @@ struct ScanIntegrity {
   double increment_error_m = 0.0;  // from the previous registered scan
   double window_error_m = 0.0;     // from the registered scan `window` scans back; NaN for the first ones
   double nees_per_dof = 0.0;       // NaN when a covariance is not finite or singular
+  // tumbled's own verdict (the scan log's good_scan): false where the scan put
+  // it in `degraded`, for any reason. Absent from logs written before it.
+  std::optional<bool> good_scan;
 };
 
 // The scan log needs t_s, registered, iterations, expected_error_m and the
 // published position covariance (cov_txx, cov_tyy, cov_tzz, cov_txy, cov_txz,
-// cov_tyz). Scans without an estimated pose at their time are skipped.
+// cov_tyz); good_scan is read where present. Scans without an estimated pose
+// at their time are skipped.
 std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const PoseSeries& estimate, const ScanLog& log,
                                        std::size_t window = 10);
 
@@ -48,7 +53,8 @@ struct DetectorLimits {
   double good_run_flag_share = 0.02;
 };
 
-// One markdown report: per threshold, the detector's figures; then the NEES.
+// One markdown report: per threshold, the detector's figures, and the same
+// figures for tumbled's verdict where every scan has one; then the NEES.
 std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std::vector<double>& thresholds_m,
                                const DetectorLimits& limits = {});
 

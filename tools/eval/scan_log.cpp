@@ -14,6 +14,10 @@ const std::vector<double>& ScanLog::column(const std::string& name) const {
   return values[static_cast<std::size_t>(it - columns.begin())];
 }
 
+bool ScanLog::has_column(const std::string& name) const {
+  return std::find(columns.begin(), columns.end(), name) != columns.end();
+}
+
 std::vector<std::string> ScanLog::stage_columns() const {
   std::vector<std::string> stages;
   for (const std::string& name : columns)

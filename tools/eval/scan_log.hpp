@@ -16,6 +16,7 @@ struct ScanLog {
   std::size_t scans() const { return values.empty() ? 0 : values.front().size(); }
   // Throws std::runtime_error naming the column when it is absent.
   const std::vector<double>& column(const std::string& name) const;
+  bool has_column(const std::string& name) const;
   std::vector<std::string> stage_columns() const;
 };
 

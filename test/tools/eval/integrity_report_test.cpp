@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 namespace tumble::eval {
@@ -71,14 +72,47 @@ TEST(IntegrityReport, AnUnregisteredScanBreaksTheIncrements) {
 }
 
 TEST(IntegrityReport, CountsFalseAlarmsOnGoodRunsAndMissedBadRuns) {
-  RunIntegrity good{"good-run", 0.1, 10.0, std::vector<ScanIntegrity>(99, ScanIntegrity{0.01, 0.001, 0.01, 1.0})};
+  RunIntegrity good{"good-run", 0.1, 10.0, std::vector<ScanIntegrity>(99, ScanIntegrity{0.01, 0.001, 0.01, 1.0, std::nullopt})};
   good.scans[40].expected_error_m = 0.05;
-  RunIntegrity bad{"bad-run", 3.0, 5.0, std::vector<ScanIntegrity>(10, ScanIntegrity{0.01, 0.3, 0.5, 9.0})};
+  RunIntegrity bad{"bad-run", 3.0, 5.0, std::vector<ScanIntegrity>(10, ScanIntegrity{0.01, 0.3, 0.5, 9.0, std::nullopt})};
   const std::string md = integrity_markdown({good, bad}, {0.04, 0.06});
   EXPECT_NE(md.find("| 0.04 m | 1.01 % (1 of 99) | 0 of 1 | 0 of 1 | 0.00 % | 1.01 % |"), std::string::npos) << md;
   EXPECT_NE(md.find("| 0.06 m | 0.00 % (0 of 99) | 0 of 1 | 0 of 1 |"), std::string::npos) << md;
   EXPECT_NE(md.find("never flagged at 0.04 m: bad-run (3.00 cm/m over 5.00 m)"), std::string::npos) << md;
   EXPECT_NE(md.find("| under 0.5 cm/m | 99 | 1.00 | 1.00 |"), std::string::npos) << md;
+}
+
+TEST(IntegrityReport, ReadsTumbledsVerdictWhereTheLogHasIt) {
+  ScanLog log = scan_log(20);
+  const std::vector<ScanIntegrity> without = score_scans(straight_line(), estimate_at_scans(log, 99, 0.0), log, 10);
+  ASSERT_EQ(without.size(), 19u);
+  EXPECT_FALSE(without[3].good_scan.has_value());
+  log.columns.push_back("good_scan");
+  log.values.push_back(std::vector<double>(20, 1.0));
+  log.values.back()[5] = 0.0;
+  const std::vector<ScanIntegrity> with = score_scans(straight_line(), estimate_at_scans(log, 99, 0.0), log, 10);
+  ASSERT_EQ(with.size(), 19u);
+  EXPECT_EQ(with[3].good_scan, std::optional<bool>(true));
+  EXPECT_EQ(with[4].good_scan, std::optional<bool>(false));  // scan 5: the increment from scan 4
+}
+
+TEST(IntegrityReport, ScoresTumbledsVerdictBesideTheThresholdsWhenEveryScanHasOne) {
+  const ScanIntegrity fine{0.01, 0.001, 0.01, 1.0, true};
+  RunIntegrity good{"good-run", 0.1, 10.0, std::vector<ScanIntegrity>(100, fine)};
+  good.scans[10].good_scan = false;
+  good.scans[11].good_scan = false;
+  good.scans[12].good_scan = false;
+  RunIntegrity bad{"bad-run", 3.0, 5.0, std::vector<ScanIntegrity>(10, fine)};
+  bad.scans[7].good_scan = false;  // a clipped gyro, say: the expected error stays low
+  RunIntegrity missed{"missed-run", 2.5, 4.0, std::vector<ScanIntegrity>(10, fine)};
+  std::string md = integrity_markdown({good, bad, missed}, {0.04});
+  EXPECT_NE(md.find("| 0.04 m | 0.00 % (0 of 100) | 0 of 1 | 0 of 2 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| tumbled's verdict | 3.00 % (3 of 100) | 1 of 1 | 1 of 2 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("never flagged by tumbled's verdict: missed-run (2.50 cm/m over 4.00 m)."), std::string::npos)
+      << md;
+  missed.scans[2].good_scan.reset();  // a log from before the verdict column
+  md = integrity_markdown({good, bad, missed}, {0.04});
+  EXPECT_EQ(md.find("tumbled's verdict"), std::string::npos) << md;
 }
 
 }  // namespace

@@ -1,0 +1,96 @@
+#include "daemon/scan_log.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+namespace tumble::daemon {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A registered scan the health machine calls good under the default limits.
+RegistrationRecord good_scan_record(std::int64_t index) {
+  RegistrationRecord r;
+  r.scan_index = index;
+  r.t_s = 100.0 + 0.1 * static_cast<double>(index);
+  r.registered = true;
+  r.converged = true;
+  r.matched_ratio = 0.9f;
+  r.degeneracy = 0.01f;
+  r.expected_error_m = 0.01f;
+  r.num_stages = 2;  // as the registration stage reports them: one time per stage name
+  r.stage_ms[0] = 1.0f;
+  r.stage_ms[1] = 2.0f;
+  return r;
+}
+
+// The value of `column` on each data row.
+std::vector<std::string> scan_log_column(const fs::path& path, const std::string& column) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  auto split = [](const std::string& text) {
+    std::vector<std::string> fields;
+    std::string field;
+    for (const char c : text) {
+      if (c == ',') {
+        fields.push_back(field);
+        field.clear();
+      } else {
+        field += c;
+      }
+    }
+    fields.push_back(field);
+    return fields;
+  };
+  const std::vector<std::string> header = split(line);
+  const auto at = static_cast<std::size_t>(std::find(header.begin(), header.end(), column) - header.begin());
+  std::vector<std::string> values;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> fields = split(line);
+    EXPECT_EQ(fields.size(), header.size()) << line;
+    values.push_back(at < fields.size() ? fields[at] : "");
+  }
+  return values;
+}
+
+class ScanLogTest : public ::testing::Test {
+ protected:
+  void TearDown() override {
+    fs::remove(path_);
+    fs::remove(path_.string() + ".partial");
+  }
+  fs::path path_ = fs::temp_directory_path() / ("tumble_scan_log_" + std::to_string(::getpid()) + ".csv");
+};
+
+TEST_F(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigsLimits) {
+  HealthConfig health;
+  health.max_expected_error_m = 0.05;
+  {
+    ScanLog log(path_.string(), {"deskew", "icp"}, health);
+    log.on_registration(good_scan_record(0));
+    RegistrationRecord spin = good_scan_record(1);
+    spin.spin_rate_unmeasured = true;
+    log.on_registration(spin);
+    RegistrationRecord loose = good_scan_record(2);
+    loose.expected_error_m = 0.045f;  // over the default 0.04, within this config's 0.05
+    log.on_registration(loose);
+    loose.expected_error_m = 0.06f;
+    log.on_registration(loose);
+    RegistrationRecord unregistered = good_scan_record(4);
+    unregistered.registered = false;
+    log.on_registration(unregistered);
+    log.commit();
+  }
+  EXPECT_EQ(scan_log_column(path_, "good_scan"), (std::vector<std::string>{"1", "0", "1", "0", "0"}));
+  EXPECT_EQ(scan_log_column(path_, "spin_rate_unmeasured"), (std::vector<std::string>{"0", "1", "0", "0", "0"}));
+  EXPECT_EQ(scan_log_column(path_, "icp_ms"), std::vector<std::string>(5, "2.000"));
+}
+
+}  // namespace
+}  // namespace tumble::daemon
