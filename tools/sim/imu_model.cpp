@@ -101,24 +101,51 @@ Eigen::Vector3d ImuModel::gaussian3(double sigma) {
   return {x, y, z};
 }
 
+ImuKinematics ImuModel::vibration_at(double t_s) {
+  if (!config_.vibration) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  const MotionState body = motion_.at(t_s);
+  const double speed = body.v_w.norm(), accel = body.a_w.norm();
+  ImuKinematics v;
+  v.specific_force_i = normal3(vibration_rng_, config_.vibration_accel_m_s2_per_m_s * speed +
+                                                   config_.vibration_accel_per_m_s2 * accel);
+  v.omega_i = normal3(vibration_rng_, (config_.vibration_gyro_deg_s_per_m_s * speed +
+                                       config_.vibration_gyro_deg_s_per_m_s2 * accel) *
+                                          kDegToRad);
+  return v;
+}
+
+ImuModel::ImuReadings ImuModel::readings_over_interval(double t_centre_s, double period_s,
+                                                       const ImuKinematics& vibration) const {
+  const int substeps = std::max(1, static_cast<int>(kTicksPerSecond) / config_.rate_hz);
+  ImuReadings out;
+  for (int j = 0; j < substeps; ++j) {
+    const double t = t_centre_s + period_s * ((j + 0.5) / substeps - 0.5);
+    ImuKinematics ideal = imu_kinematics(motion_.at(t), T_LI_);
+    ideal.specific_force_i += vibration.specific_force_i;
+    ideal.omega_i += vibration.omega_i;
+    Eigen::Vector3d gyro =
+        errors_.gyro_sensing * ideal.omega_i + errors_.gyro_g_sensitivity_rad_s_per_m_s2 * ideal.specific_force_i;
+    Eigen::Vector3d accel = errors_.accel_sensing * ideal.specific_force_i;
+    out.status_word |= clip(accel, config_.accel_range_m_s2, kStatusAccelClipX);
+    out.status_word |= clip(gyro, config_.gyro_range_deg_s * kDegToRad, kStatusGyroClipX);
+    out.accel_m_s2 += accel;
+    out.gyro_rad_s += gyro;
+  }
+  out.accel_m_s2 /= substeps;
+  out.gyro_rad_s /= substeps;
+  return out;
+}
+
 bool ImuModel::next(double duration_s, ImuMeasurement& out) {
   const double t_s = imu_sample_time_s(clock_, config_.rate_hz, index_);
   if (t_s > duration_s) return false;
   const double jitter_s =
       config_.timestamp_jitter ? jitter_rng_.uniform(-config_.timestamp_jitter_s, config_.timestamp_jitter_s) : 0.0;
-  const MotionState body = motion_.at(t_s + clock_.imu_time_offset_s + jitter_s);
-  ImuKinematics ideal = imu_kinematics(body, T_LI_);
-  if (config_.vibration) {
-    const double speed = body.v_w.norm(), accel = body.a_w.norm();
-    ideal.specific_force_i += normal3(vibration_rng_, config_.vibration_accel_m_s2_per_m_s * speed +
-                                                          config_.vibration_accel_per_m_s2 * accel);
-    ideal.omega_i += normal3(vibration_rng_, (config_.vibration_gyro_deg_s_per_m_s * speed +
-                                              config_.vibration_gyro_deg_s_per_m_s2 * accel) *
-                                                 kDegToRad);
-  }
+  const double t_measured_s = t_s + clock_.imu_time_offset_s + jitter_s;
+  const ImuReadings sensed = readings_over_interval(t_measured_s, 1.0 / config_.rate_hz, vibration_at(t_measured_s));
   out.t_s = t_s;
-  out.gyro_rad_s = errors_.gyro_sensing * ideal.omega_i + errors_.gyro_g_sensitivity_rad_s_per_m_s2 * ideal.specific_force_i;
-  out.accel_m_s2 = errors_.accel_sensing * ideal.specific_force_i;
+  out.gyro_rad_s = sensed.gyro_rad_s;
+  out.accel_m_s2 = sensed.accel_m_s2;
   if (config_.temperature_drift) {
     const double warmed = 1.0 - std::exp(-(t_s - clock_.first_sample_s) / config_.warm_up_time_constant_s);
     out.gyro_rad_s += warmed * errors_.gyro_warm_up_drift_rad_s;
@@ -133,7 +160,8 @@ bool ImuModel::next(double duration_s, ImuMeasurement& out) {
     gyro_bias_ += gaussian3(config_.gyro_bias_stability_deg_h * kDegToRad / 3600.0 * walk);
     accel_bias_ += gaussian3(config_.accel_bias_stability_ug * kMicroG * walk);
   }
-  std::uint32_t status = clip(out.accel_m_s2, config_.accel_range_m_s2, kStatusAccelClipX);
+  std::uint32_t status = sensed.status_word;
+  status |= clip(out.accel_m_s2, config_.accel_range_m_s2, kStatusAccelClipX);
   status |= clip(out.gyro_rad_s, config_.gyro_range_deg_s * kDegToRad, kStatusGyroClipX);
   if (status != 0) status |= kStatusAnyClip;
   out.status_word = status;
