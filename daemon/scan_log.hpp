@@ -1,9 +1,17 @@
 // --scan-log: one CSV row per scan the registration processed, for
 // evaluation tools: how the registration went, how the health machine judged
-// it, and what each stage cost. Columns: the header line (daemon/README.md
-// lists them); good_scan is 1 where the scan counts as good toward `tracking`
-// and 0 where it puts tumbled in `degraded` (scan_verdict.hpp), under the
-// config's daemon.health limits. Written atomically like the trajectory file.
+// it, and what each stage cost. Columns: scan_index, t_s (scan start),
+// registered, converged, iterations, inlier_ratio, residual_m, degeneracy,
+// matched_ratio, correction_m, correction_deg (ICP's pose from the
+// IMU-propagated one), points_in, points_used, sigma_s_median_m,
+// correction_{x,y,z}_m, expected_error_m, cov_t{xx,yy,zz,xy,xz,yz} (the
+// published position covariance), map_points, map_seen_through,
+// direction_unobserved, expected_error_icp_m, spin_rate_unmeasured (the gyro
+// clipped about the lidar's spin axis during the scan), good_scan (1: a good
+// scan under the config's daemon.health limits, scan_verdict.hpp; 0: not,
+// which ends the run of good scans and degrades tumbled from tracking),
+// <stage>_ms per stage, total_ms, latency_ms (scan complete → handed to the
+// publisher). Written atomically like the trajectory file.
 #pragma once
 
 #include <string>

@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -80,6 +82,7 @@ TEST_F(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfi
     RegistrationRecord loose = good_scan_record(2);
     loose.expected_error_m = 0.045f;  // over the default 0.04, within this config's 0.05
     log.on_registration(loose);
+    loose.scan_index = 3;
     loose.expected_error_m = 0.06f;
     log.on_registration(loose);
     RegistrationRecord unregistered = good_scan_record(4);

@@ -71,7 +71,7 @@ struct DetectorRow {
 template <class Flag>
 DetectorRow score_detector(const std::vector<RunIntegrity>& runs, const DetectorLimits& limits, Flag&& flagged) {
   DetectorRow row;
-  char text[256];
+  char text[512];
   for (const RunIntegrity& run : runs) {
     std::size_t run_flagged = 0;
     for (const ScanIntegrity& scan : run.scans) {
@@ -215,7 +215,10 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
   if (every_scan_judged) {
     md += "\nThe verdict row flags a scan wherever tumbled judged it not good (the scan log's good_scan: the "
           "expected error over daemon.health.max_expected_error_m of the run's config, the gyro clipped about the "
-          "spin axis, a direction unobserved, a poor registration): what puts tumbled in `degraded`.\n";
+          "spin axis, a direction unobserved, a poor registration), which degrades it from tracking; scored on the "
+          "same registered scans as the thresholds.\n";
+  } else {
+    md += "\nNo verdict row: some scan logs have no good_scan column (written by a tumbled before it).\n";
   }
   md += "\nNEES per degree of freedom of the published position covariance, against each one-scan increment's "
         "error (consistent: mean near 1):\n\n| runs | scans | mean | median |\n|---|---|---|---|\n";

@@ -10,6 +10,7 @@ namespace {
 
 constexpr double kMicroG = kStandardGravity_m_s2 * 1e-6;
 constexpr std::uint32_t kTicksPerSecond = 10'000;
+constexpr int kSensorSampleRate_hz = 10'000;  // the unit samples its sensors at this rate
 constexpr std::uint64_t kSampleTimeFineWrap = 864'000'000;  // one day of ticks
 constexpr double kBiasStabilityHorizonS = 100.0;
 
@@ -116,7 +117,7 @@ ImuKinematics ImuModel::vibration_at(double t_s) {
 
 ImuModel::ImuReadings ImuModel::readings_over_interval(double t_centre_s, double period_s,
                                                        const ImuKinematics& vibration) const {
-  const int substeps = std::max(1, static_cast<int>(kTicksPerSecond) / config_.rate_hz);
+  const int substeps = std::max(1, kSensorSampleRate_hz / config_.rate_hz);
   ImuReadings out;
   for (int j = 0; j < substeps; ++j) {
     const double t = t_centre_s + period_s * ((j + 0.5) / substeps - 0.5);

@@ -7,7 +7,9 @@
 // rate of turn "have been going through Strapdown Integration and Inverse
 // Strapdown Integration" (MT0605P, calibrated inertial data outputs), i.e.
 // they are the velocity and attitude increments over the period divided by
-// it, which Xsens states lose no information at any output rate. An impact
+// it, which Xsens states lose no information at any output rate (the mean
+// of body-frame sub-samples leaves out the coning and sculling terms: about
+// (ωT)²/24 of the reading, 3e-4 at the gyro's range and 100 Hz). An impact
 // shorter than the period shows as its net change, as on the device; sampled
 // at an instant, a 4 ms jolt of the cage read 140 m/s² for a whole 10 ms
 // period, 1.4 m/s of velocity the cage never had. Each 10 kHz sub-sample is
@@ -108,7 +110,8 @@ struct ImuClock {
   std::uint32_t first_sample_time_fine = 0;  // its SampleTimeFine (10 kHz ticks since power-up)
   std::uint16_t first_packet_counter = 0;
   // The rig's lidar-IMU time offset, in tumbled's convention: the sample sent
-  // (and so stamped) at run time t measures the motion at t + this, so
+  // (and so stamped) at run time t measures the motion around t + this (the
+  // mean over its period, centred there), so
   // tumbled's `imu.imu_time_offset_s` set to the same value cancels it.
   double imu_time_offset_s = 0.0;
 };
@@ -127,7 +130,7 @@ struct ImuKinematics {
 ImuKinematics imu_kinematics(const MotionState& body, const Eigen::Isometry3d& T_LI);
 
 struct ImuMeasurement {
-  double t_s = 0.0;  // run time the sample is sent for (it measures the motion at t_s + imu_time_offset_s)
+  double t_s = 0.0;  // run time the sample is sent for (it measures the period centred on t_s + imu_time_offset_s)
   Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();  // as reported (clipped at the range)
   Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
   std::uint32_t status_word = 0;
