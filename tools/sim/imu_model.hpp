@@ -13,9 +13,11 @@
 // shorter than the period shows as its net change, as on the device; sampled
 // at an instant, a 4 ms jolt of the cage read 140 m/s² for a whole 10 ms
 // period, 1.4 m/s of velocity the cage never had. Each 10 kHz sub-sample is
-// clipped at the range (the flag says some were), then averaged. The period
-// is centred on the sample's time: where in it the stamp falls is not
-// documented, and centred it adds no delay to the rig's declared offset.
+// clipped at the range (the flag says some were), then averaged (at most
+// 100 sub-samples: below 100 Hz, which only tests use, they are spaced
+// wider). The period is centred on the sample's time: where in it the stamp
+// falls is not documented, and centred it adds no delay to the rig's
+// declared offset.
 #pragma once
 
 #include <Eigen/Core>
