@@ -3,12 +3,12 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
-#include <algorithm>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <vector>
+
+#include "tools/eval/scan_log.hpp"
 
 namespace tumble::daemon {
 namespace {
@@ -29,36 +29,6 @@ RegistrationRecord good_scan_record(std::int64_t index) {
   r.stage_ms[0] = 1.0f;
   r.stage_ms[1] = 2.0f;
   return r;
-}
-
-// The value of `column` on each data row.
-std::vector<std::string> scan_log_column(const fs::path& path, const std::string& column) {
-  std::ifstream in(path);
-  std::string line;
-  std::getline(in, line);
-  auto split = [](const std::string& text) {
-    std::vector<std::string> fields;
-    std::string field;
-    for (const char c : text) {
-      if (c == ',') {
-        fields.push_back(field);
-        field.clear();
-      } else {
-        field += c;
-      }
-    }
-    fields.push_back(field);
-    return fields;
-  };
-  const std::vector<std::string> header = split(line);
-  const auto at = static_cast<std::size_t>(std::find(header.begin(), header.end(), column) - header.begin());
-  std::vector<std::string> values;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> fields = split(line);
-    EXPECT_EQ(fields.size(), header.size()) << line;
-    values.push_back(at < fields.size() ? fields[at] : "");
-  }
-  return values;
 }
 
 class ScanLogTest : public ::testing::Test {
@@ -90,9 +60,11 @@ TEST_F(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfi
     log.on_registration(unregistered);
     log.commit();
   }
-  EXPECT_EQ(scan_log_column(path_, "good_scan"), (std::vector<std::string>{"1", "0", "1", "0", "0"}));
-  EXPECT_EQ(scan_log_column(path_, "spin_rate_unmeasured"), (std::vector<std::string>{"0", "1", "0", "0", "0"}));
-  EXPECT_EQ(scan_log_column(path_, "icp_ms"), std::vector<std::string>(5, "2.000"));
+  // tumble-eval's reader: every row has the header's field count, or it throws.
+  const eval::ScanLog written = eval::read_scan_log(path_);
+  EXPECT_EQ(written.column("good_scan"), (std::vector<double>{1, 0, 1, 0, 0}));
+  EXPECT_EQ(written.column("spin_rate_unmeasured"), (std::vector<double>{0, 1, 0, 0, 0}));
+  EXPECT_EQ(written.column("icp_ms"), std::vector<double>(5, 2.0));
 }
 
 }  // namespace
