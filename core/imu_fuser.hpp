@@ -125,7 +125,7 @@ struct ImuFuserParams {
   // Madgwick's accelerometer step only on samples this long after the newest
   // scan registered on a map (header, 2); 0: on every sample, as the paper.
   double accel_correction_after_s = 0.5;
-  double levelling_max_expected_error_m = 0.03;  // of ScanResult::expected_error_icp_m (registration_confidence.hpp)
+  double levelling_max_expected_error_m = 0.024;  // of ScanResult::expected_error_icp_m (registration_confidence.hpp)
   bool attitude_from_device = false;
 
   double accel_noise_density_m_s2_sqrt_hz = 60e-6 * kStandardGravity_m_s2;  // MTi-30 datasheet

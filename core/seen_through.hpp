@@ -65,7 +65,7 @@ struct SeenThroughParams {
   // expected error of the ICP covariance as it is). A pose slipping
   // along a corridor would see through the walls at its ends, the only
   // points that hold it: bench2's corridor cage runs then diverged.
-  double max_expected_error_m = 0.03;
+  double max_expected_error_m = 0.024;
 };
 
 // Throws std::invalid_argument naming the parameter out of range.

@@ -70,7 +70,7 @@ struct FuserConfig {
   double madgwick_beta = 0.1;
   double accel_gate_m_s2 = 2.0;
   double accel_correction_after_s = 0.5;
-  double levelling_max_expected_error_m = 0.03;
+  double levelling_max_expected_error_m = 0.024;
   double init_static_s = 1.0;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;
@@ -125,7 +125,7 @@ struct MapConfig {
   double seen_through_beam_radius_m = 0.05;
   double seen_through_margin_m = 0.5;
   double seen_through_max_range_m = 30.0;
-  double seen_through_max_expected_error_m = 0.03;
+  double seen_through_max_expected_error_m = 0.024;
   int seen_through_beam_stride = 2;
   bool operator==(const MapConfig&) const = default;
 };

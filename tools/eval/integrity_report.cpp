@@ -63,7 +63,7 @@ double mean(const std::vector<double>& values) {
 
 // One row of the detector table: a flag rule scored over every run.
 struct DetectorRow {
-  std::size_t good_scans = 0, good_flagged = 0, noisy_good_runs = 0, bad_flagged = 0;
+  std::size_t good_scans = 0, good_flagged = 0, good_flagged_slipped = 0, noisy_good_runs = 0, bad_flagged = 0;
   std::size_t slipped = 0, slipped_flagged = 0, others = 0, others_flagged = 0;
   std::vector<std::string> missed;  // runs over the bad-run limit never flagged
 };
@@ -73,7 +73,7 @@ DetectorRow score_detector(const std::vector<RunIntegrity>& runs, const Detector
   DetectorRow row;
   char text[512];
   for (const RunIntegrity& run : runs) {
-    std::size_t run_flagged = 0;
+    std::size_t run_flagged = 0, run_flagged_slipped = 0;
     for (const ScanIntegrity& scan : run.scans) {
       const bool flag = flagged(scan);
       run_flagged += flag ? 1 : 0;
@@ -81,6 +81,7 @@ DetectorRow score_detector(const std::vector<RunIntegrity>& runs, const Detector
       if (scan.window_error_m > limits.slipped_m) {
         ++row.slipped;
         row.slipped_flagged += flag ? 1 : 0;
+        run_flagged_slipped += flag ? 1 : 0;
       } else {
         ++row.others;
         row.others_flagged += flag ? 1 : 0;
@@ -88,6 +89,7 @@ DetectorRow score_detector(const std::vector<RunIntegrity>& runs, const Detector
     }
     if (run.error_cm_per_m < limits.good_run_cm_per_m) {
       row.good_flagged += run_flagged;
+      row.good_flagged_slipped += run_flagged_slipped;
       row.good_scans += run.scans.size();
       if (static_cast<double>(run_flagged) > limits.good_run_flag_share * static_cast<double>(run.scans.size()))
         ++row.noisy_good_runs;
@@ -172,13 +174,14 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
                 runs.size(), good_runs, limits.good_run_cm_per_m, bad_runs, limits.bad_run_cm_per_m, limits.slipped_m);
   std::string md = text;
   std::snprintf(text, sizeof text,
-                "| threshold | scans flagged, runs under %.2g cm/m | of those runs, over %.0f %% flagged | runs over %.2g "
+                "| threshold | scans flagged, runs under %.2g cm/m (of them slipped) | of those runs, over %.0f %% flagged | runs over %.2g "
                 "cm/m flagged | slipped scans flagged | other scans flagged |\n|---|---|---|---|---|---|\n",
                 limits.good_run_cm_per_m, limits.good_run_flag_share * 100.0, limits.bad_run_cm_per_m);
   md += text;
   const auto add_row = [&](const std::string& label, const DetectorRow& row) {
-    std::snprintf(text, sizeof text, "| %s | %s (%zu of %zu) | %zu of %zu | %zu of %zu | %s | %s |\n", label.c_str(),
-                  percent(row.good_flagged, row.good_scans).c_str(), row.good_flagged, row.good_scans,
+    std::snprintf(text, sizeof text, "| %s | %s (%zu of %zu; %zu) | %zu of %zu | %zu of %zu | %s | %s |\n",
+                  label.c_str(), percent(row.good_flagged, row.good_scans).c_str(), row.good_flagged, row.good_scans,
+                  row.good_flagged_slipped,
                   row.noisy_good_runs, good_runs, row.bad_flagged, bad_runs,
                   percent(row.slipped_flagged, row.slipped).c_str(), percent(row.others_flagged, row.others).c_str());
     md += text;
