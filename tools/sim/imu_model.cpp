@@ -94,8 +94,9 @@ double imu_sample_time_s(const ImuClock& clock, int rate_hz, std::uint64_t k) {
 ImuModel::ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI,
                    const Motion& motion, std::uint64_t noise_seed, bool noise_enabled)
     : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"),
-      jitter_rng_(noise_seed, "imu-timestamp-jitter"), vibration_rng_(noise_seed, "imu-vibration"), errors_(draw_imu_unit_errors(config, noise_seed)),
-      noise_enabled_(noise_enabled) {
+      jitter_rng_(noise_seed, "imu-timestamp-jitter"), vibration_rng_(noise_seed, "imu-vibration"),
+      accel_vibration_(draw_oscillations(vibration_rng_)), gyro_vibration_(draw_oscillations(vibration_rng_)),
+      errors_(draw_imu_unit_errors(config, noise_seed)), noise_enabled_(noise_enabled) {
   gyro_bias_ = noise_enabled_ ? gaussian3(config_.gyro_initial_bias_sigma_deg_s * kDegToRad) : Eigen::Vector3d::Zero();
   accel_bias_ = noise_enabled_ ? gaussian3(config_.accel_initial_bias_sigma_m_s2) : Eigen::Vector3d::Zero();
   initial_gyro_bias_ = gyro_bias_;
@@ -107,28 +108,52 @@ Eigen::Vector3d ImuModel::gaussian3(double sigma) {
   return {x, y, z};
 }
 
-ImuKinematics ImuModel::vibration_at(double t_s) {
-  if (!config_.vibration) return {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-  const MotionState body = motion_.at(t_s);
+std::array<ImuModel::Oscillation, 3> ImuModel::draw_oscillations(SensorRng& rng) {
+  constexpr double kLowest_hz = 20.0, kHighest_hz = 500.0;  // ImuConfig::vibration
+  std::array<Oscillation, 3> axes;
+  for (Oscillation& axis : axes) {
+    for (int m = 0; m < kVibrationModes; ++m) {
+      const double f_hz = kLowest_hz * std::pow(kHighest_hz / kLowest_hz, rng.uniform());
+      axis.omega_rad_s[m] = 2.0 * std::numbers::pi * f_hz;
+      axis.phase_rad[m] = rng.uniform(0.0, 2.0 * std::numbers::pi);
+    }
+  }
+  return axes;
+}
+
+double ImuModel::Oscillation::at(double t_s) const {
+  // Each sinusoid's RMS is its amplitude / sqrt(2); the modes are independent.
+  static const double kUnitRms = std::sqrt(2.0 / kVibrationModes);
+  double sum = 0.0;
+  for (int m = 0; m < kVibrationModes; ++m) sum += std::sin(omega_rad_s[m] * t_s + phase_rad[m]);
+  return kUnitRms * sum;
+}
+
+ImuKinematics ImuModel::vibration_at(double t_s, const MotionState& body) const {
   const double speed = body.v_w.norm(), accel = body.a_w.norm();
+  const double accel_sigma = config_.vibration_accel_m_s2_per_m_s * speed + config_.vibration_accel_per_m_s2 * accel;
+  const double gyro_sigma =
+      (config_.vibration_gyro_deg_s_per_m_s * speed + config_.vibration_gyro_deg_s_per_m_s2 * accel) * kDegToRad;
   ImuKinematics v;
-  v.specific_force_i = normal3(vibration_rng_, config_.vibration_accel_m_s2_per_m_s * speed +
-                                                   config_.vibration_accel_per_m_s2 * accel);
-  v.omega_i = normal3(vibration_rng_, (config_.vibration_gyro_deg_s_per_m_s * speed +
-                                       config_.vibration_gyro_deg_s_per_m_s2 * accel) *
-                                          kDegToRad);
+  for (int axis = 0; axis < 3; ++axis) {
+    v.specific_force_i[axis] = accel_sigma * accel_vibration_[axis].at(t_s);
+    v.omega_i[axis] = gyro_sigma * gyro_vibration_[axis].at(t_s);
+  }
   return v;
 }
 
-ImuModel::ImuReadings ImuModel::readings_over_interval(double t_centre_s, double period_s,
-                                                       const ImuKinematics& vibration) const {
+ImuModel::ImuReadings ImuModel::readings_over_interval(double t_centre_s, double period_s) const {
   const int substeps = std::clamp(kSensorSampleRate_hz / config_.rate_hz, 1, kMaxSubSamples);
   ImuReadings out;
   for (int j = 0; j < substeps; ++j) {
     const double t = t_centre_s + period_s * ((j + 0.5) / substeps - 0.5);
-    ImuKinematics ideal = imu_kinematics(motion_.at(t), T_LI_);
-    ideal.specific_force_i += vibration.specific_force_i;
-    ideal.omega_i += vibration.omega_i;
+    const MotionState body = motion_.at(t);
+    ImuKinematics ideal = imu_kinematics(body, T_LI_);
+    if (config_.vibration) {
+      const ImuKinematics vibration = vibration_at(t, body);
+      ideal.specific_force_i += vibration.specific_force_i;
+      ideal.omega_i += vibration.omega_i;
+    }
     Eigen::Vector3d gyro =
         errors_.gyro_sensing * ideal.omega_i + errors_.gyro_g_sensitivity_rad_s_per_m_s2 * ideal.specific_force_i;
     Eigen::Vector3d accel = errors_.accel_sensing * ideal.specific_force_i;
@@ -148,7 +173,7 @@ bool ImuModel::next(double duration_s, ImuMeasurement& out) {
   const double jitter_s =
       config_.timestamp_jitter ? jitter_rng_.uniform(-config_.timestamp_jitter_s, config_.timestamp_jitter_s) : 0.0;
   const double t_measured_s = t_s + clock_.imu_time_offset_s + jitter_s;
-  const ImuReadings sensed = readings_over_interval(t_measured_s, 1.0 / config_.rate_hz, vibration_at(t_measured_s));
+  const ImuReadings sensed = readings_over_interval(t_measured_s, 1.0 / config_.rate_hz);
   out.t_s = t_s;
   out.gyro_rad_s = sensed.gyro_rad_s;
   out.accel_m_s2 = sensed.accel_m_s2;

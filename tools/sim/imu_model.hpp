@@ -22,6 +22,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <array>
 #include <cstdint>
 
 #include "tools/sim/motion.hpp"
@@ -77,16 +78,21 @@ struct ImuConfig {
   bool timestamp_jitter = false;
   double timestamp_jitter_s = 50e-6;
   // Vibration of the carrier beyond its modelled motion: a cage's bars
-  // drumming on the floor, its frame ringing after an impact. It is broadband
-  // (well above the 100-400 Hz output rate), so what the unit's internal
-  // 10 kHz sampling and strapdown integration pass on is, per output sample,
-  // white noise on the specific force and the rate it measures (then scale
+  // drumming on the floor, its frame ringing after an impact. An
+  // oscillation: kVibrationModes sinusoids per axis, their frequencies drawn
+  // log-uniform in 20-500 Hz (a frame's modes, excited by the bars' strikes
+  // at 10-15 Hz) and their phases uniform, once per run; their sum has
+  // 1 sigma per axis per_speed * |v| + per_accel * |a|, v and a of the body
+  // at that instant (rolling speed, impacts). It is added to the specific
+  // force and rate the unit senses at every 10 kHz sub-sample (then scale
   // factor, misalignment, g-sensitivity and clipping act on it as on the
-  // motion). 1 sigma per axis: per_speed * |v| + per_accel * |a|, v and a of
-  // the body (rolling speed, impacts). These are the carrier's, not the
+  // motion), so the period's mean passes on what the device's strapdown
+  // integration does: an oscillation's net velocity and angle over the
+  // period, which consecutive samples take back (1 g at 30 Hz is a velocity
+  // of +-5 cm/s, not a random walk). These are the carrier's, not the
   // unit's: MT0605P specifies how the MTi-30 responds to vibration (its
   // g-sensitivity above, and the vibration-rejecting gyros of the 100-series),
-  // not how much a rolling cage shakes. The defaults are an assumption: 1 g
+  // not how much a rolling cage shakes. The magnitudes are an assumption: 1 g
   // RMS at the bench's 3.3 m/s, and 5 % of an impact's peak ringing on.
   bool vibration = false;
   double vibration_accel_m_s2_per_m_s = 3.0;
@@ -119,6 +125,7 @@ struct ImuClock {
 };
 
 // StatusWord clip bits (mti.md).
+inline constexpr int kVibrationModes = 8;  // sinusoids per axis (ImuConfig::vibration)
 inline constexpr std::uint32_t kStatusAccelClipX = 1u << 8;
 inline constexpr std::uint32_t kStatusGyroClipX = 1u << 11;
 inline constexpr std::uint32_t kStatusAnyClip = 1u << 19;
@@ -157,17 +164,24 @@ class ImuModel {
 
  private:
   Eigen::Vector3d gaussian3(double sigma);
-  // The carrier's vibration for one sample (zero when off): one draw, on
-  // every sub-sample of the period alike.
-  ImuKinematics vibration_at(double t_s);
+  // The carrier's vibration (ImuConfig::vibration, on) at t_s, the body then
+  // in `body`.
+  ImuKinematics vibration_at(double t_s, const MotionState& body) const;
   struct ImuReadings {
     Eigen::Vector3d accel_m_s2 = Eigen::Vector3d::Zero();
     Eigen::Vector3d gyro_rad_s = Eigen::Vector3d::Zero();
     std::uint32_t status_word = 0;  // clip bits of the sub-samples
   };
-  // The sensed readings (unit errors, clipping) averaged over the 10 kHz
-  // sub-samples of the period centred on t_centre_s.
-  ImuReadings readings_over_interval(double t_centre_s, double period_s, const ImuKinematics& vibration) const;
+  // The sensed readings (vibration, unit errors, clipping) averaged over the
+  // 10 kHz sub-samples of the period centred on t_centre_s.
+  ImuReadings readings_over_interval(double t_centre_s, double period_s) const;
+  // One axis of the vibration: unit-RMS sum of sinusoids (ImuConfig::vibration).
+  struct Oscillation {
+    std::array<double, kVibrationModes> omega_rad_s{};
+    std::array<double, kVibrationModes> phase_rad{};
+    double at(double t_s) const;
+  };
+  static std::array<Oscillation, 3> draw_oscillations(SensorRng& rng);
 
   ImuConfig config_;
   ImuClock clock_;
@@ -176,6 +190,7 @@ class ImuModel {
   SensorRng rng_;
   SensorRng jitter_rng_;
   SensorRng vibration_rng_;
+  std::array<Oscillation, 3> accel_vibration_, gyro_vibration_;
   ImuUnitErrors errors_;
   bool noise_enabled_;
   std::uint64_t index_ = 0;
