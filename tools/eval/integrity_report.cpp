@@ -174,15 +174,15 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
                 runs.size(), good_runs, limits.good_run_cm_per_m, bad_runs, limits.bad_run_cm_per_m, limits.slipped_m);
   std::string md = text;
   std::snprintf(text, sizeof text,
-                "| threshold | scans flagged, runs under %.2g cm/m (of them slipped) | of those runs, over %.0f %% flagged | runs over %.2g "
-                "cm/m flagged | slipped scans flagged | other scans flagged |\n|---|---|---|---|---|---|\n",
+                "| threshold | scans flagged, runs under %.2g cm/m (of them slipped) | of those runs, over %.0f %% "
+                "flagged | runs over %.2g cm/m flagged | slipped scans flagged | other scans flagged |\n"
+                "|---|---|---|---|---|---|\n",
                 limits.good_run_cm_per_m, limits.good_run_flag_share * 100.0, limits.bad_run_cm_per_m);
   md += text;
   const auto add_row = [&](const std::string& label, const DetectorRow& row) {
     std::snprintf(text, sizeof text, "| %s | %s (%zu of %zu; %zu) | %zu of %zu | %zu of %zu | %s | %s |\n",
                   label.c_str(), percent(row.good_flagged, row.good_scans).c_str(), row.good_flagged, row.good_scans,
-                  row.good_flagged_slipped,
-                  row.noisy_good_runs, good_runs, row.bad_flagged, bad_runs,
+                  row.good_flagged_slipped, row.noisy_good_runs, good_runs, row.bad_flagged, bad_runs,
                   percent(row.slipped_flagged, row.slipped).c_str(), percent(row.others_flagged, row.others).c_str());
     md += text;
   };

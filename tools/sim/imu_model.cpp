@@ -94,8 +94,7 @@ double imu_sample_time_s(const ImuClock& clock, int rate_hz, std::uint64_t k) {
 ImuModel::ImuModel(const ImuConfig& config, const ImuClock& clock, const Eigen::Isometry3d& T_LI,
                    const Motion& motion, std::uint64_t noise_seed, bool noise_enabled)
     : config_(config), clock_(clock), T_LI_(T_LI), motion_(motion), rng_(noise_seed, "imu"),
-      jitter_rng_(noise_seed, "imu-timestamp-jitter"), vibration_rng_(noise_seed, "imu-vibration"),
-      accel_vibration_(draw_oscillations(vibration_rng_)), gyro_vibration_(draw_oscillations(vibration_rng_)),
+      jitter_rng_(noise_seed, "imu-timestamp-jitter"), vibration_(draw_carrier_vibration(noise_seed)),
       errors_(draw_imu_unit_errors(config, noise_seed)), noise_enabled_(noise_enabled) {
   gyro_bias_ = noise_enabled_ ? gaussian3(config_.gyro_initial_bias_sigma_deg_s * kDegToRad) : Eigen::Vector3d::Zero();
   accel_bias_ = noise_enabled_ ? gaussian3(config_.accel_initial_bias_sigma_m_s2) : Eigen::Vector3d::Zero();
@@ -108,36 +107,41 @@ Eigen::Vector3d ImuModel::gaussian3(double sigma) {
   return {x, y, z};
 }
 
-std::array<ImuModel::Oscillation, 3> ImuModel::draw_oscillations(SensorRng& rng) {
-  constexpr double kLowest_hz = 20.0, kHighest_hz = 500.0;  // ImuConfig::vibration
-  std::array<Oscillation, 3> axes;
-  for (Oscillation& axis : axes) {
+CarrierVibration draw_carrier_vibration(std::uint64_t seed) {
+  SensorRng rng(seed, "imu-vibration");
+  const auto draw_axis = [&rng] {
+    VibrationAxis axis;
     for (int m = 0; m < kVibrationModes; ++m) {
-      const double f_hz = kLowest_hz * std::pow(kHighest_hz / kLowest_hz, rng.uniform());
+      const double f_hz = kVibrationLowest_hz * std::pow(kVibrationHighest_hz / kVibrationLowest_hz, rng.uniform());
       axis.omega_rad_s[m] = 2.0 * std::numbers::pi * f_hz;
       axis.phase_rad[m] = rng.uniform(0.0, 2.0 * std::numbers::pi);
     }
-  }
-  return axes;
+    return axis;
+  };
+  CarrierVibration v;
+  for (VibrationAxis& axis : v.accel) axis = draw_axis();
+  for (VibrationAxis& axis : v.gyro) axis = draw_axis();
+  return v;
 }
 
-double ImuModel::Oscillation::at(double t_s) const {
+double VibrationAxis::at(double t_s) const {
   // Each sinusoid's RMS is its amplitude / sqrt(2); the modes are independent.
-  static const double kUnitRms = std::sqrt(2.0 / kVibrationModes);
+  const double unit_rms_amplitude = std::sqrt(2.0 / kVibrationModes);
   double sum = 0.0;
   for (int m = 0; m < kVibrationModes; ++m) sum += std::sin(omega_rad_s[m] * t_s + phase_rad[m]);
-  return kUnitRms * sum;
+  return unit_rms_amplitude * sum;
 }
 
 ImuKinematics ImuModel::vibration_at(double t_s, const MotionState& body) const {
   const double speed = body.v_w.norm(), accel = body.a_w.norm();
-  const double accel_sigma = config_.vibration_accel_m_s2_per_m_s * speed + config_.vibration_accel_per_m_s2 * accel;
-  const double gyro_sigma =
+  const double accel_sigma_m_s2 =
+      config_.vibration_accel_m_s2_per_m_s * speed + config_.vibration_accel_per_m_s2 * accel;
+  const double gyro_sigma_rad_s =
       (config_.vibration_gyro_deg_s_per_m_s * speed + config_.vibration_gyro_deg_s_per_m_s2 * accel) * kDegToRad;
   ImuKinematics v;
   for (int axis = 0; axis < 3; ++axis) {
-    v.specific_force_i[axis] = accel_sigma * accel_vibration_[axis].at(t_s);
-    v.omega_i[axis] = gyro_sigma * gyro_vibration_[axis].at(t_s);
+    v.specific_force_i[axis] = accel_sigma_m_s2 * vibration_.accel[axis].at(t_s);
+    v.omega_i[axis] = gyro_sigma_rad_s * vibration_.gyro[axis].at(t_s);
   }
   return v;
 }

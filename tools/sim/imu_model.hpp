@@ -79,17 +79,18 @@ struct ImuConfig {
   double timestamp_jitter_s = 50e-6;
   // Vibration of the carrier beyond its modelled motion: a cage's bars
   // drumming on the floor, its frame ringing after an impact. An
-  // oscillation: kVibrationModes sinusoids per axis, their frequencies drawn
-  // log-uniform in 20-500 Hz (a frame's modes, excited by the bars' strikes
-  // at 10-15 Hz) and their phases uniform, once per run; their sum has
-  // 1 sigma per axis per_speed * |v| + per_accel * |a|, v and a of the body
-  // at that instant (rolling speed, impacts). It is added to the specific
-  // force and rate the unit senses at every 10 kHz sub-sample (then scale
-  // factor, misalignment, g-sensitivity and clipping act on it as on the
-  // motion), so the period's mean passes on what the device's strapdown
-  // integration does: an oscillation's net velocity and angle over the
-  // period, which consecutive samples take back (1 g at 30 Hz is a velocity
-  // of +-5 cm/s, not a random walk). These are the carrier's, not the
+  // oscillation (CarrierVibration, below: a frame's modes at 20-500 Hz,
+  // excited by the bars' strikes at 10-15 Hz) of 1 sigma per axis
+  // per_speed * |v| + per_accel * |a|, v and a of the body at that instant
+  // (rolling speed, impacts). It is added to the specific force and rate the
+  // unit senses at every 10 kHz sub-sample (then scale factor,
+  // misalignment, g-sensitivity and clipping act on it as on the motion),
+  // so the period's mean passes on what the device's strapdown integration
+  // does: an oscillation's net velocity and angle over the period, which
+  // consecutive samples take back (1 g at 30 Hz is a velocity of +-5 cm/s,
+  // not a random walk). Below 100 Hz output the mean is taken from 100
+  // sub-samples only (imu_model.cpp), which alias the higher modes: it is
+  // meant for the device's 100-400 Hz. The shaking is the carrier's, not the
   // unit's: MT0605P specifies how the MTi-30 responds to vibration (its
   // g-sensitivity above, and the vibration-rejecting gyros of the 100-series),
   // not how much a rolling cage shakes. The magnitudes are an assumption: 1 g
@@ -125,7 +126,6 @@ struct ImuClock {
 };
 
 // StatusWord clip bits (mti.md).
-inline constexpr int kVibrationModes = 8;  // sinusoids per axis (ImuConfig::vibration)
 inline constexpr std::uint32_t kStatusAccelClipX = 1u << 8;
 inline constexpr std::uint32_t kStatusGyroClipX = 1u << 11;
 inline constexpr std::uint32_t kStatusAnyClip = 1u << 19;
@@ -146,6 +146,22 @@ struct ImuMeasurement {
   std::uint32_t sample_time_fine = 0;
   std::uint16_t packet_counter = 0;
 };
+
+// The carrier's vibration (ImuConfig::vibration): per axis, a sum of
+// kVibrationModes sinusoids of unit RMS, drawn once per run.
+inline constexpr int kVibrationModes = 8;
+inline constexpr double kVibrationLowest_hz = 20.0, kVibrationHighest_hz = 500.0;
+struct VibrationAxis {
+  std::array<double, kVibrationModes> omega_rad_s{};
+  std::array<double, kVibrationModes> phase_rad{};
+  double at(double t_s) const;  // unit RMS
+};
+struct CarrierVibration {
+  std::array<VibrationAxis, 3> accel, gyro;
+};
+// Frequencies log-uniform in [kVibrationLowest_hz, kVibrationHighest_hz],
+// phases uniform; from its own stream, so it moves no other source's draws.
+CarrierVibration draw_carrier_vibration(std::uint64_t seed);
 
 class ImuModel {
  public:
@@ -175,13 +191,6 @@ class ImuModel {
   // The sensed readings (vibration, unit errors, clipping) averaged over the
   // 10 kHz sub-samples of the period centred on t_centre_s.
   ImuReadings readings_over_interval(double t_centre_s, double period_s) const;
-  // One axis of the vibration: unit-RMS sum of sinusoids (ImuConfig::vibration).
-  struct Oscillation {
-    std::array<double, kVibrationModes> omega_rad_s{};
-    std::array<double, kVibrationModes> phase_rad{};
-    double at(double t_s) const;
-  };
-  static std::array<Oscillation, 3> draw_oscillations(SensorRng& rng);
 
   ImuConfig config_;
   ImuClock clock_;
@@ -189,8 +198,7 @@ class ImuModel {
   const Motion& motion_;
   SensorRng rng_;
   SensorRng jitter_rng_;
-  SensorRng vibration_rng_;
-  std::array<Oscillation, 3> accel_vibration_, gyro_vibration_;
+  CarrierVibration vibration_;
   ImuUnitErrors errors_;
   bool noise_enabled_;
   std::uint64_t index_ = 0;

@@ -4,6 +4,7 @@
 // measured across seeds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
@@ -205,21 +206,44 @@ class CruiseMotion final : public Motion {
   double speed_;
 };
 
+// Each axis of the carrier's vibration has unit RMS, the sum of its
+// kVibrationModes sinusoids of amplitude sqrt(2 / modes).
+TEST(ImuVibration, EachAxisOscillatesWithUnitRms) {
+  const CarrierVibration vibration = draw_carrier_vibration(7);
+  for (const auto* axes : {&vibration.accel, &vibration.gyro}) {
+    for (const VibrationAxis& axis : *axes) {
+      double squares = 0.0, peak = 0.0;
+      const int samples = 100'000;  // 100 s, every ms: the 20 Hz mode 2000 times over
+      for (int i = 0; i < samples; ++i) {
+        const double value = axis.at(i * 1e-3);
+        squares += value * value;
+        peak = std::max(peak, std::abs(value));
+      }
+      EXPECT_NEAR(std::sqrt(squares / samples), 1.0, 0.05);
+      EXPECT_LE(peak, std::sqrt(2.0 * kVibrationModes));
+      for (const double omega_rad_s : axis.omega_rad_s) {
+        EXPECT_GE(omega_rad_s, 2.0 * std::numbers::pi * kVibrationLowest_hz);
+        EXPECT_LE(omega_rad_s, 2.0 * std::numbers::pi * kVibrationHighest_hz);
+      }
+    }
+  }
+}
+
 // The vibration is an oscillation sensed at 10 kHz and averaged over each
 // period, as the device's strapdown integration does: a sample shows some of
 // it, but consecutive samples take back what the one before added, so the
 // velocity and angle integrated from the samples stay within the
 // oscillation's own (a random walk per sample grew without bound).
-TEST(ImuVibration, IsAnOscillationGrowingWithSpeedThatIntegratesToNoDrift) {
+TEST(ImuVibration, GrowsWithSpeedIsNothingAtRestAndIntegratesToNoDrift) {
   ImuConfig on;
   on.vibration = true;
-  for (const double speed : {0.0, 2.0}) {
-    const CruiseMotion motion(speed);
+  for (const double speed_m_s : {0.0, 2.0}) {
+    const CruiseMotion motion(speed_m_s);
     ImuModel with(on, clock_at_zero(), Eigen::Isometry3d::Identity(), motion, 3, false);
     ImuModel without(ImuConfig{}, clock_at_zero(), Eigen::Isometry3d::Identity(), motion, 3, false);
     std::vector<double> accel, gyro;
-    Eigen::Vector3d velocity = Eigen::Vector3d::Zero(), angle = Eigen::Vector3d::Zero();
-    double largest_velocity = 0.0, largest_angle = 0.0;
+    Eigen::Vector3d velocity_m_s = Eigen::Vector3d::Zero(), angle_rad = Eigen::Vector3d::Zero();
+    double largest_velocity_m_s = 0.0, largest_angle_rad = 0.0;
     ImuMeasurement a, b;
     const double period_s = 1.0 / on.rate_hz;
     while (with.next(motion.duration_s(), a)) {
@@ -228,28 +252,29 @@ TEST(ImuVibration, IsAnOscillationGrowingWithSpeedThatIntegratesToNoDrift) {
         accel.push_back(a.accel_m_s2[axis] - b.accel_m_s2[axis]);
         gyro.push_back(a.gyro_rad_s[axis] - b.gyro_rad_s[axis]);
       }
-      velocity += (a.accel_m_s2 - b.accel_m_s2) * period_s;
-      angle += (a.gyro_rad_s - b.gyro_rad_s) * period_s;
-      largest_velocity = std::max(largest_velocity, velocity.cwiseAbs().maxCoeff());
-      largest_angle = std::max(largest_angle, angle.cwiseAbs().maxCoeff());
+      velocity_m_s += (a.accel_m_s2 - b.accel_m_s2) * period_s;
+      angle_rad += (a.gyro_rad_s - b.gyro_rad_s) * period_s;
+      largest_velocity_m_s = std::max(largest_velocity_m_s, velocity_m_s.cwiseAbs().maxCoeff());
+      largest_angle_rad = std::max(largest_angle_rad, angle_rad.cwiseAbs().maxCoeff());
     }
     ASSERT_GE(accel.size(), 3000u);
-    if (speed == 0.0) {
+    if (speed_m_s == 0.0) {
       for (const double d : accel) EXPECT_EQ(d, 0.0);
       for (const double d : gyro) EXPECT_EQ(d, 0.0);
       continue;
     }
-    const double accel_sigma = 3.0 * speed, gyro_sigma = 1.0 * speed * kDegToRad;
+    const double accel_sigma_m_s2 = 3.0 * speed_m_s, gyro_sigma_rad_s = 1.0 * speed_m_s * kDegToRad;
     // Some of it in each sample: the modes below the 100 Hz output rate pass.
-    EXPECT_GT(spread(accel).sigma, 0.05 * accel_sigma);
-    EXPECT_LT(spread(accel).sigma, accel_sigma);
-    EXPECT_GT(spread(gyro).sigma, 0.05 * gyro_sigma);
-    // A mode's velocity is its amplitude over its angular frequency, 20 Hz at
-    // the lowest: 8 modes of amplitude sigma * sqrt(2 / 8) reach at most
-    // 4 * sigma / (2 pi 20 Hz), and the integral spans twice that.
-    const double bound_s = 2.0 * 4.0 / (2.0 * std::numbers::pi * 20.0);
-    EXPECT_LT(largest_velocity, bound_s * accel_sigma);  // white noise per sample: ~2 m/s after 10 s
-    EXPECT_LT(largest_angle, bound_s * gyro_sigma);
+    EXPECT_GT(spread(accel).sigma, 0.05 * accel_sigma_m_s2);
+    EXPECT_LT(spread(accel).sigma, accel_sigma_m_s2);
+    EXPECT_GT(spread(gyro).sigma, 0.05 * gyro_sigma_rad_s);
+    // A mode's velocity is its amplitude over its angular frequency: the
+    // modes together reach at most sqrt(2 modes) sigma / (2 pi lowest
+    // frequency), and the integral from the start spans twice that.
+    const double bound_s =
+        2.0 * std::sqrt(2.0 * kVibrationModes) / (2.0 * std::numbers::pi * kVibrationLowest_hz);
+    EXPECT_LT(largest_velocity_m_s, bound_s * accel_sigma_m_s2);  // white noise per sample: ~2 m/s after 10 s
+    EXPECT_LT(largest_angle_rad, bound_s * gyro_sigma_rad_s);
   }
 }
 
