@@ -1,19 +1,15 @@
 #include "daemon/scan_log.hpp"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdint>
-#include <filesystem>
-#include <string>
 #include <vector>
 
+#include "test/temp_dir.hpp"
 #include "tools/eval/scan_log.hpp"
 
 namespace tumble::daemon {
 namespace {
-
-namespace fs = std::filesystem;
 
 // A registered scan the health machine calls good under the default limits.
 RegistrationRecord good_scan_record(std::int64_t index) {
@@ -31,20 +27,13 @@ RegistrationRecord good_scan_record(std::int64_t index) {
   return r;
 }
 
-class ScanLogTest : public ::testing::Test {
- protected:
-  void TearDown() override {
-    fs::remove(path_);
-    fs::remove(path_.string() + ".partial");
-  }
-  fs::path path_ = fs::temp_directory_path() / ("tumble_scan_log_" + std::to_string(::getpid()) + ".csv");
-};
-
-TEST_F(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigsLimits) {
+TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigsLimits) {
+  const test::TempDir dir("scan-log");
+  const auto path = dir.path() / "scans.csv";
   HealthConfig health;
   health.max_expected_error_m = 0.05;
   {
-    ScanLog log(path_.string(), {"deskew", "icp"}, health);
+    ScanLog log(path.string(), {"deskew", "icp"}, health);
     log.on_registration(good_scan_record(0));
     RegistrationRecord spin = good_scan_record(1);
     spin.spin_rate_unmeasured = true;
@@ -61,7 +50,7 @@ TEST_F(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfi
     log.commit();
   }
   // tumble-eval's reader: every row has the header's field count, or it throws.
-  const eval::ScanLog written = eval::read_scan_log(path_);
+  const eval::ScanLog written = eval::read_scan_log(path);
   EXPECT_EQ(written.column("good_scan"), (std::vector<double>{1, 0, 1, 0, 0}));
   EXPECT_EQ(written.column("spin_rate_unmeasured"), (std::vector<double>{0, 1, 0, 0, 0}));
   EXPECT_EQ(written.column("icp_ms"), std::vector<double>(5, 2.0));

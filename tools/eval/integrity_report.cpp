@@ -215,7 +215,7 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
     add_missed(text, first);
   }
   if (verdict) add_missed("by tumbled's verdict", *verdict);
-  if (every_scan_judged) {
+  if (verdict) {
     md += "\nThe verdict row flags a scan wherever tumbled judged it not good (the scan log's good_scan: the "
           "expected error over daemon.health.max_expected_error_m of the run's config, the gyro clipped about the "
           "spin axis, a direction unobserved, a poor registration), which degrades it from tracking; scored on the "
