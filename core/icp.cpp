@@ -1,6 +1,7 @@
 #include "core/icp.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,6 +17,19 @@ namespace {
 // Eigenvalues below this fraction of the largest are numerically zero: the
 // step has no component along them (the initial guess is kept there).
 constexpr double kPseudoInverseCutoff = 1e-12;
+
+// The Gauss-Newton step minimising ½xᵀHx + gᵀx with no translation along the
+// unit vector `held` (Lagrange: [H e; eᵀ 0]). H may be singular along it: the
+// system stays solvable while the other five directions are observed.
+Vector6d step_holding_translation(const Matrix6d& H, const Vector6d& g, const Eigen::Vector3d& held) {
+  Eigen::Matrix<double, 7, 7> kkt = Eigen::Matrix<double, 7, 7>::Zero();
+  kkt.topLeftCorner<6, 6>() = H;
+  kkt.block<3, 1>(0, 6) = held;
+  kkt.block<1, 3>(6, 0) = held.transpose();
+  Eigen::Matrix<double, 7, 1> rhs = Eigen::Matrix<double, 7, 1>::Zero();
+  rhs.head<6>() = -g;
+  return kkt.fullPivLu().solve(rhs).head<6>();
+}
 
 // Fresh neighbour searches reach this factor times max_match_distance_m, and
 // keep this many neighbours beyond match_k: the farther the last kept one,
@@ -39,6 +53,8 @@ void check_params(const IcpParams& p) {
   if (p.max_iterations < 1) fail("max_iterations must be >= 1");
   if (p.averaged_window < 1) fail("averaged_window must be >= 1");
   if (!(p.max_normal_angle_deg > 0)) fail("max_normal_angle_deg must be > 0");
+  if (!(p.hold_weak_translation_share >= 0 && p.hold_weak_translation_share <= 1))
+    fail("hold_weak_translation_share must be in [0, 1]");
 }
 
 }  // namespace
@@ -180,7 +196,8 @@ std::size_t Icp::match_point(std::size_t i, const PointCloud& reading, const Loc
   return count;
 }
 
-IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl) {
+IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl,
+                     bool hold_weak_translation) {
   IcpResult result;
   Eigen::Matrix3d R = initial_T_wl.rotation();
   Eigen::Vector3d t = initial_T_wl.translation();
@@ -295,10 +312,15 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     const double cutoff = lambda(5) * kPseudoInverseCutoff;
     Vector6d step_scaled = Vector6d::Zero();
     Matrix6d H_inv = Matrix6d::Zero();
+    const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
+    const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
+                      weakest_translation.norm() > kMostlyTranslation;
+    result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
+    if (hold) step_scaled = step_holding_translation(H, g, result.held_translation_w);
     for (int e = 0; e < 6; ++e) {
       const Vector6d v = eigen.eigenvectors().col(e);
       const double l = std::max(lambda(e), cutoff);
-      if (lambda(e) > cutoff) step_scaled -= v * (v.dot(g) / l);
+      if (lambda(e) > cutoff && !hold) step_scaled -= v * (v.dot(g) / l);
       H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
     }
     have_system = true;

@@ -327,7 +327,10 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
       const Eigen::Vector3d filter_mean =
           (state_at(scan.t_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
       const double variance_m2 = scan.position_sigma_m * scan.position_sigma_m + previous.sigma_m * previous.sigma_m;
-      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean, variance_m2 / (dt * dt)};
+      const double unmeasured_m2 = params_.unmeasured_position_sigma_m * params_.unmeasured_position_sigma_m;
+      const Eigen::Vector3d per_axis_m2 =
+          Eigen::Vector3d::Constant(variance_m2) + unmeasured_m2 * scan.unmeasured_w.cwiseAbs2();
+      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean, per_axis_m2 / (dt * dt)};
       const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
       lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
     }
@@ -417,7 +420,7 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     if (velocity_pending && velocity->t_s <= entry.t_s) {
       advance_to(velocity->t_s);
       for (int i = 0; i < 3; ++i) {
-        const double total = state.variance[i] + velocity->noise_variance;
+        const double total = state.variance[i] + velocity->noise_variance[i];
         const double gain = total > 0.0 ? state.variance[i] / total : 0.0;
         state.v_w[i] += gain * velocity->innovation[i];
         state.variance[i] *= 1.0 - gain;

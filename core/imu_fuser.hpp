@@ -134,6 +134,11 @@ struct ImuFuserParams {
   double initial_velocity_sigma_m_s = 0.01;     // after the static period
   double max_lidar_interval_s = 0.5;            // longer scan gaps give no velocity measurement
   double max_imu_gap_s = 0.1;                   // longer sample gaps are integrated but counted
+  // A scan's position along ScanCorrection::unmeasured_w is the prediction,
+  // not a measurement: the velocity measurement from it is this uncertain
+  // there (per W axis, by the direction's share of it), so it neither pulls
+  // the velocity nor shrinks its variance.
+  double unmeasured_position_sigma_m = 1.0;
 
   std::size_t history_capacity = 4096;
   std::size_t trajectory_capacity = 4096;
@@ -173,6 +178,9 @@ struct ScanCorrection {
   double position_sigma_m = 0.0;  // the registration's residual mapped to a pose uncertainty
   bool map_start = false;         // it started a new map: its pose is the prediction itself
   double expected_error_m = 0.0;  // ScanResult::expected_error_icp_m
+  // Unit, W axes: a translation the registration did not measure (it held
+  // the prediction there, IcpParams::hold_weak_translation_share); zero: none.
+  Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();
 };
 
 class ImuFuser {
@@ -223,7 +231,7 @@ class ImuFuser {
   struct VelocityMeasurement {
     double t_s = 0.0;
     Eigen::Vector3d innovation = Eigen::Vector3d::Zero();
-    double noise_variance = 0.0;
+    Eigen::Vector3d noise_variance = Eigen::Vector3d::Zero();  // per W axis
   };
   struct PoseReset {
     double t_s = 0.0;

@@ -40,6 +40,8 @@ class UnobservedDirection {
   // the bar is not a direction seen again). The window outlives a new local
   // map: the weakness belongs to the place (a corridor loses its map often).
   bool add(const Degeneracy& degeneracy);
+  // What the last add() returned (false before any).
+  bool unobserved() const { return unobserved_; }
 
   // Adds sigma_m² to a published covariance over (tx, ty, tz, rx, ry, rz)
   // along the weakest direction of the newest weak scan (not the scan's own:

@@ -43,6 +43,8 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.unobserved.window_scans = static_cast<std::size_t>(r.unobserved_window_scans);
   p.unobserved.enter_fraction = r.unobserved_fraction;
   p.unobserved.sigma_m = r.unobserved_sigma_m;
+  p.icp.hold_weak_translation_share = r.hold_weak_translation ? r.unobserved_min_eigenvalue : 0.0;
+  p.fuser.unmeasured_position_sigma_m = r.unobserved_sigma_m;
 
   p.weights.model = r.model;
   p.weights.tw_c1_m_s = r.tw_c1_m_s;

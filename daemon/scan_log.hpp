@@ -10,6 +10,8 @@
 // clipped about the lidar's spin axis during the scan), good_scan (1: a good
 // scan under the config's daemon.health limits, scan_verdict.hpp; 0: not,
 // which ends the run of good scans and degrades tumbled from tracking),
+// translation_held (1: ICP held the translation along the scan's weakest
+// direction at the prediction, IcpParams::hold_weak_translation_share),
 // <stage>_ms per stage, total_ms, latency_ms (scan complete → handed to the
 // publisher). Written atomically like the trajectory file.
 #pragma once

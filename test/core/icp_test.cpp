@@ -176,25 +176,34 @@ TEST(Icp, ZeroWeightOutliersAreIgnoredAndWeightedOnesPullTheSolution) {
   EXPECT_LT((down_weighted.T_wl.translation() - f.truth.translation()).norm(), 1e-4);
 }
 
-TEST(Icp, FlagsACorridorDegenerateAlongItsAxis) {
-  const test::Room corridor = test::make_corridor();
-  test::Room finite = corridor;  // sample a finite stretch of it for the map
-  finite.interior.lo.x() = -10;
-  finite.interior.hi.x() = 10;
-  finite.interior.hi.z() = 4;  // a ceiling above anything the reading sees
-  PointCloud surfaces = test::sample_room_surfaces(finite, test::full_or_coarse(0.1, 0.3));
-  LocalMap map(sampled_map_params());
-  map.insert(surfaces, Eigen::Isometry3d::Identity());
-  test::RingLidar lidar;
-  lidar.max_range_m = 8;  // never sees the stretch's ends
-  lidar.columns = test::full_or_coarse(1800, 240);
-  const Eigen::Isometry3d truth = test::make_pose(Eigen::Vector3d(0, 0.3, 0), 0, 0, 0.3);
+// A stretch of corridor as the map and a ring scan from inside it that never
+// sees the stretch's ends: nothing pins the translation along x.
+struct CorridorFixture {
+  LocalMap map{sampled_map_params()};
   PointCloud reading;
-  VoxelDownsampler(test::full_or_coarse(0.1, 0.3)).apply(test::to_cloud(test::scan_room(corridor, [&](double) { return truth; }, 0.0, lidar)), reading);
+  Eigen::Isometry3d truth = test::make_pose(Eigen::Vector3d(0, 0.3, 0), 0, 0, 0.3);
+
+  CorridorFixture() {
+    const test::Room corridor = test::make_corridor();
+    test::Room finite = corridor;
+    finite.interior.lo.x() = -10;
+    finite.interior.hi.x() = 10;
+    finite.interior.hi.z() = 4;  // a ceiling above anything the reading sees
+    map.insert(test::sample_room_surfaces(finite, test::full_or_coarse(0.1, 0.3)), Eigen::Isometry3d::Identity());
+    test::RingLidar lidar;
+    lidar.max_range_m = 8;
+    lidar.columns = test::full_or_coarse(1800, 240);
+    VoxelDownsampler(test::full_or_coarse(0.1, 0.3))
+        .apply(test::to_cloud(test::scan_room(corridor, [&](double) { return truth; }, 0.0, lidar)), reading);
+  }
+};
+
+TEST(Icp, FlagsACorridorDegenerateAlongItsAxis) {
+  CorridorFixture f;
   Icp icp;
-  Eigen::Isometry3d guess = truth;
+  Eigen::Isometry3d guess = f.truth;
   guess.translation() += Eigen::Vector3d(0.2, 0.05, 0.0);
-  const IcpResult r = icp.align(reading, map, guess);
+  const IcpResult r = icp.align(f.reading, f.map, guess);
   ASSERT_TRUE(r.degeneracy.degenerate);
   EXPECT_GT(std::abs(r.degeneracy.direction(0)), 0.99);  // translation along x
   // Not exactly 0: PCA normals along the wall-floor edges lean a little along
@@ -203,11 +212,43 @@ TEST(Icp, FlagsACorridorDegenerateAlongItsAxis) {
   EXPECT_GT(r.degeneracy.condition_number, 1e3);
   // The constrained directions are still recovered.
   EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
-  EXPECT_LT(test::rotation_error_rad(r.T_wl, truth), test::full_or_coarse(0.02, 0.2) * kDeg);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), test::full_or_coarse(0.02, 0.2) * kDeg);
+  EXPECT_EQ(r.held_translation_w, Eigen::Vector3d::Zero());  // the paper's ICP holds nothing
 
   // The room is not degenerate.
-  RoomFixture f(true);
-  EXPECT_FALSE(icp.align(f.reading, f.map, f.truth).degeneracy.degenerate);
+  RoomFixture room(true);
+  EXPECT_FALSE(icp.align(room.reading, room.map, room.truth).degeneracy.degenerate);
+}
+
+TEST(Icp, HoldsACorridorsAxisAtThePredictionAndStillSolvesTheRest) {
+  CorridorFixture f;
+  Icp icp(IcpParams{.hold_weak_translation_share = 0.002});
+  // Off along the axis, across it, and in pitch and yaw.
+  const Eigen::Isometry3d guess =
+      test::make_pose(f.truth.translation() + Eigen::Vector3d(0.2, 0.05, 0.0), 0, 1 * kDeg, 0.3 + 1 * kDeg);
+  const IcpResult r = icp.align(f.reading, f.map, guess);
+  EXPECT_GT(std::abs(r.held_translation_w.x()), 0.99);
+  // The prediction's, to the few micrometres the held direction (the weakest,
+  // within a fraction of a degree of the axis) lets the steps across it move x.
+  EXPECT_NEAR(r.T_wl.translation().x(), guess.translation().x(), 1e-4);
+  EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), test::full_or_coarse(0.02, 0.2) * kDeg);
+  // The covariance still says the axis is unknown.
+  EXPECT_LT(r.degeneracy.min_eigenvalue, 1e-3);
+
+  // Told not to hold (a direction declared unobserved), it does not.
+  const IcpResult free = icp.align(f.reading, f.map, guess, false);
+  EXPECT_EQ(free.held_translation_w, Eigen::Vector3d::Zero());
+  EXPECT_NE(free.T_wl.translation().x(), r.T_wl.translation().x());
+}
+
+TEST(Icp, HoldsNothingWhereEveryDirectionIsPinned) {
+  RoomFixture f(false);
+  const IcpResult paper = Icp().align(f.reading, f.map, offset_guess(f.truth));
+  const IcpResult ours = Icp(IcpParams{.hold_weak_translation_share = 0.002}).align(f.reading, f.map, offset_guess(f.truth));
+  EXPECT_EQ(ours.held_translation_w, Eigen::Vector3d::Zero());
+  EXPECT_TRUE(ours.T_wl.isApprox(paper.T_wl, 0.0));
+  EXPECT_EQ(ours.iterations, paper.iterations);
 }
 
 TEST(Icp, MatchedRatioIsTheShareOfReadingPointsNearTheMap) {
@@ -249,6 +290,7 @@ TEST(Icp, RejectsBadParameters) {
   EXPECT_THROW(Icp(IcpParams{.max_match_distance_m = 0}), std::invalid_argument);
   EXPECT_THROW(Icp(IcpParams{.match_k = 0}), std::invalid_argument);
   EXPECT_THROW(Icp(IcpParams{.frmsd_r_min = 0.8, .frmsd_r_max = 0.7}), std::invalid_argument);
+  EXPECT_THROW(Icp(IcpParams{.hold_weak_translation_share = -0.1}), std::invalid_argument);
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
 // The fuser against simulated IMU data with a known truth: static
 // initialisation, the lever arm, the velocity filter (tracking a perfect lidar,
 // removing a bias drift, applying the mean velocity at the mid-interval time),
-// the pose correction, saturation flags, clipped gyro axes and the bounded
-// buffers.
+// the pose correction, a translation the registration held, saturation flags,
+// clipped gyro axes and the bounded buffers.
 #include "core/imu_fuser.hpp"
 
 #include <gtest/gtest.h>
@@ -407,6 +407,41 @@ TEST(ImuFuser, LidarMeanVelocityIsAppliedAtTheMidIntervalTime) {
   const double lidar_mean = (truth.p_w(t_scan) - truth.p_w(t_previous)).x() / 0.1;
   EXPECT_NEAR(truth.v_w(t_scan).x() - lidar_mean, 0.15, 1e-9);
   EXPECT_NEAR(trajectory.back().v_w.x(), truth.v_w(trajectory.back().t_s).x(), 1e-6);
+}
+
+TEST(ImuFuser, AScanThatHeldATranslationDoesNotMeasureTheVelocityAlongIt) {
+  // At rest, but the accelerometer reads 0.5 m/s² too much along x and y for
+  // a second: the filter believes 0.5 m/s along both. The next scan held its
+  // translation along x at the prediction (a corridor's axis), so its
+  // velocity measurement says nothing there.
+  Truth truth;
+  truth.accel_bias = [](double t) {
+    const double tau = t - kMotionStart;
+    return tau > 0.0 && tau <= 1.0 ? Eigen::Vector3d(0.5, 0.5, 0.0) : Eigen::Vector3d::Zero();
+  };
+  ImuFuser fuser(device_attitude_params());
+  const double t_previous = kMotionStart + 1.203;
+  const double t_scan = t_previous + 0.1;
+  const Eigen::Isometry3d at_rest = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero());
+  feed(fuser, truth, 0, 255);
+  correct_scan(fuser, t_previous, at_rest, 1e-6);
+  feed(fuser, truth, 256, 265);
+  const Eigen::Vector3d v_before = fuser.trajectory().back().v_w;
+  const Eigen::Vector3d variance_before = fuser.velocity_variance();
+  ASSERT_GT(v_before.x(), 0.4);
+  ASSERT_GT(v_before.y(), 0.4);
+  const CorrectionResult result = fuser.correct_with_registered_pose({.t_start_s = t_scan,
+                                                                      .t_end_s = t_scan + kScanS,
+                                                                      .T_wl = at_rest,
+                                                                      .position_sigma_m = 1e-6,
+                                                                      .unmeasured_w = Eigen::Vector3d::UnitX()});
+  ASSERT_TRUE(result.velocity_updated);
+  const Eigen::Vector3d v_after = fuser.trajectory().back().v_w;
+  EXPECT_NEAR(v_after.y(), 0.0, 1e-3);             // measured: corrected
+  EXPECT_NEAR(v_after.x(), v_before.x(), 1e-3);  // held: the IMU's, as it was
+  // Nor does it make the filter surer of the velocity there.
+  EXPECT_NEAR(fuser.velocity_variance().x(), variance_before.x(), 1e-5);
+  EXPECT_LT(fuser.velocity_variance().y(), 0.2 * variance_before.y());
 }
 
 TEST(ImuFuser, ConsistentCorrectionLeavesTheTrajectoryUnchanged) {

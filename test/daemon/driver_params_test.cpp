@@ -65,6 +65,22 @@ TEST(OdometryParamsFromConfig, UnobservedDirectionKeysReachTheCore) {
   EXPECT_THROW(load_config("registration:\n  unobserved_sigma_m: 0\n", "test.yaml"), ConfigError);
 }
 
+TEST(OdometryParamsFromConfig, AWeakScanHoldsItsTranslationAtTheWeakScansThreshold) {
+  // One threshold for both: a weak scan (unobserved_min_eigenvalue) is one
+  // that holds; what it leaves unmeasured is as uncertain as an unobserved direction.
+  const OdometryParams defaults = odometry_params(DaemonConfig{});
+  EXPECT_DOUBLE_EQ(defaults.icp.hold_weak_translation_share, 0.002);
+  EXPECT_DOUBLE_EQ(defaults.fuser.unmeasured_position_sigma_m, 1.0);
+  const OdometryParams p = odometry_params(
+      load_config("registration:\n  unobserved_min_eigenvalue: 0.003\n  unobserved_sigma_m: 5\n", "test.yaml"));
+  EXPECT_DOUBLE_EQ(p.icp.hold_weak_translation_share, 0.003);
+  EXPECT_DOUBLE_EQ(p.fuser.unmeasured_position_sigma_m, 5.0);
+  const OdometryParams off =
+      odometry_params(load_config("registration:\n  hold_weak_translation: false\n", "test.yaml"));
+  EXPECT_DOUBLE_EQ(off.icp.hold_weak_translation_share, 0.0);
+  EXPECT_THROW(load_config("registration:\n  hold_weak_translation: maybe\n", "test.yaml"), ConfigError);
+}
+
 TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
   EXPECT_DOUBLE_EQ(scan_assembler_config(LidarConfig{}).min_scan_coverage, 0.9);
   const DaemonConfig config = load_config("lidar:\n  min_scan_coverage: 0.5\n  split_azimuth_deg: 90\n", "test.yaml");

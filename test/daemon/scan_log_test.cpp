@@ -37,6 +37,7 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
     log.on_registration(good_scan_record(0));
     RegistrationRecord spin = good_scan_record(1);
     spin.spin_rate_unmeasured = true;
+    spin.translation_held_w = {0.0f, -1.0f, 0.0f};
     log.on_registration(spin);
     RegistrationRecord loose = good_scan_record(2);
     loose.expected_error_m = 0.045f;  // over the default 0.04, within this config's 0.05
@@ -53,6 +54,7 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
   const eval::ScanLog written = eval::read_scan_log(path);
   EXPECT_EQ(written.column("good_scan"), (std::vector<double>{1, 0, 1, 0, 0}));
   EXPECT_EQ(written.column("spin_rate_unmeasured"), (std::vector<double>{0, 1, 0, 0, 0}));
+  EXPECT_EQ(written.column("translation_held"), (std::vector<double>{0, 1, 0, 0, 0}));
   EXPECT_EQ(written.column("icp_ms"), std::vector<double>(5, 2.0));
 }
 
