@@ -18,6 +18,11 @@ namespace {
 // step has no component along them (the initial guess is kept there).
 constexpr double kPseudoInverseCutoff = 1e-12;
 
+// A weakest direction is held (IcpParams::hold_weak_translation_share) when
+// it is mostly a translation: the norm of its translation part above this
+// (the whole eigenvector is unit, in the scaled coordinates).
+constexpr double kMinHeldTranslationNorm = 0.5;
+
 // The Gauss-Newton step minimising ½xᵀHx + gᵀx with no translation along the
 // unit vector `held` (Lagrange: [H e; eᵀ 0]). H may be singular along it: the
 // system stays solvable while the other five directions are observed.
@@ -314,7 +319,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     Matrix6d H_inv = Matrix6d::Zero();
     const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
     const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
-                      weakest_translation.norm() > kMostlyTranslation;
+                      weakest_translation.norm() > kMinHeldTranslationNorm;
     result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
     if (hold) step_scaled = step_holding_translation(H, g, result.held_translation_w);
     for (int e = 0; e < 6; ++e) {

@@ -76,10 +76,10 @@ struct IcpParams {
   // solves the rest with the translation along it held (the initial pose's,
   // the IMU's prediction, carries it), and the result says so. Where the
   // pose slid along a lane it was the step that slid it: bench1's cage-39
-  // 6.45 → 0.18 cm/m, the yard's RPE over 1 m 3.4 → 2.3 cm/m (README). The
-  // rotation stays solved: holding the whole weakest direction, which mixes
-  // the translation with a pitch, let a corridor walk's pitch drift 3-5°.
-  // 0: never (the paper's ICP).
+  // 6.45 → 0.18 cm/m, long-09-yard-cage's RPE over 1 m 3.4 → 2.3 cm/m
+  // (README, "What a weak scan holds"). The rotation stays solved: holding
+  // the whole weakest direction, which mixes the translation with a pitch,
+  // broke two cage runs. 0: never (the paper's ICP).
   double hold_weak_translation_share = 0.0;
   // Re-rank a point's kept neighbours instead of searching again when that
   // provably gives the same matches (see the top of this file). false: search
@@ -101,11 +101,6 @@ struct Degeneracy {
   // share x of the weights is this / x (registration_confidence.hpp).
   double residual_variance_per_weight = 0;
 };
-
-// Of the normal matrix's eigenvectors, what counts as mostly a translation
-// (IcpParams::hold_weak_translation_share): the norm of its translation part
-// (the whole vector is unit, in the scaled coordinates).
-inline constexpr double kMostlyTranslation = 0.5;
 
 struct IcpResult {
   Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();

@@ -290,7 +290,8 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   }
   if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
     const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
-                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m};
+                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m,
+                              scan.unmeasured_w};
     if (!anchor_ || scan.t_start_s > anchor_->t_s) {
       previous_anchor_ = anchor_;
       anchor_ = pose;
@@ -326,11 +327,17 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
       const Eigen::Vector3d lidar_mean = (reset.p_wi - previous.p_wi) / dt;
       const Eigen::Vector3d filter_mean =
           (state_at(scan.t_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
+      // Either end may be a prediction along its held direction: the interval
+      // measures an axis only as well as both ends do (a held end that drifted
+      // would otherwise pass its whole drift into the velocity at once).
       const double variance_m2 = scan.position_sigma_m * scan.position_sigma_m + previous.sigma_m * previous.sigma_m;
       const double unmeasured_m2 = params_.unmeasured_position_sigma_m * params_.unmeasured_position_sigma_m;
-      const Eigen::Vector3d per_axis_m2 =
-          Eigen::Vector3d::Constant(variance_m2) + unmeasured_m2 * scan.unmeasured_w.cwiseAbs2();
-      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean, per_axis_m2 / (dt * dt)};
+      const Eigen::Vector3d unmeasured_per_axis_m2 =
+          unmeasured_m2 * (scan.unmeasured_w.cwiseAbs2() + previous.unmeasured_w.cwiseAbs2());
+      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
+                                     (Eigen::Vector3d::Constant(variance_m2) + unmeasured_per_axis_m2) / (dt * dt)};
+      for (int i = 0; i < 3; ++i)
+        velocity->measured[static_cast<std::size_t>(i)] = unmeasured_per_axis_m2[i] <= variance_m2;
       const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
       lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
     }
@@ -339,7 +346,8 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
   repropagate(velocity, reset);
-  previous_registration_ = RegisteredPose{scan.t_start_s, reset.p_wi, q_wi_registered, scan.position_sigma_m};
+  previous_registration_ =
+      RegisteredPose{scan.t_start_s, reset.p_wi, q_wi_registered, scan.position_sigma_m, scan.unmeasured_w};
 
   result.pose_reset = true;
   result.velocity_updated = velocity.has_value();
@@ -425,7 +433,8 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
         state.v_w[i] += gain * velocity->innovation[i];
         state.variance[i] *= 1.0 - gain;
       }
-      state.speed_unknown = {};
+      // A clipped axis's speed is known again once a scan measures it.
+      for (std::size_t i = 0; i < 3; ++i) state.speed_unknown[i] = state.speed_unknown[i] && !velocity->measured[i];
       velocity_pending = false;
     }
     if (reset_pending && reset.t_s <= entry.t_s) {

@@ -78,7 +78,7 @@
 //    Clipping is flagged through to the samples: gyro clipping per lidar
 //    axis for that sample; accelerometer clipping adds process noise
 //    (saturated_accel_sigma along the clipped axis in W) and marks the W axes
-//    it touches as "speed unknown" until the next lidar velocity update.
+//    it touches as "speed unknown" until a lidar velocity update measures them.
 //    "Touches" = a direction cosine above 0.1 (the IMU→lidar and W→lidar
 //    axis mappings use the same threshold).
 //
@@ -232,6 +232,9 @@ class ImuFuser {
     double t_s = 0.0;
     Eigen::Vector3d innovation = Eigen::Vector3d::Zero();
     Eigen::Vector3d noise_variance = Eigen::Vector3d::Zero();  // per W axis
+    // Per W axis: the unmeasured share of its variance (either end's
+    // ScanCorrection::unmeasured_w) within the measured one's.
+    std::array<bool, 3> measured{true, true, true};
   };
   struct PoseReset {
     double t_s = 0.0;
@@ -289,6 +292,7 @@ class ImuFuser {
     Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
     Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();
     double sigma_m = 0.0;
+    Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();  // ScanCorrection::unmeasured_w
   };
   std::optional<RegisteredPose> previous_registration_;
   std::optional<double> newest_levelling_s_;  // the newest registration on a map (header, 2)

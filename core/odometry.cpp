@@ -106,7 +106,7 @@ bool Odometry::process(const Scan& scan) {
                                          .position_sigma_m = result.position_sigma_m,
                                          .map_start = result.map_initialised,
                                          .expected_error_m = result.expected_error_icp_m,
-                                         .unmeasured_w = result.translation_held_w});
+                                         .unmeasured_w = result.held_translation_w});
   result.v_w = velocity_at(result.t_scan_start_s);
   if (result.timings.measured) {
     result.timings.fuser_correction_s = now() - mark;

@@ -165,9 +165,10 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.map_initialised = true;
     result.registered = true;
   } else {
-    // Where a direction has stayed unobserved (a corridor) nothing holds it:
-    // carried by the IMU alone for seconds, the corridor walks' pitch drifted
-    // 3° and they ran away (README); free, ICP keeps them near standing still.
+    // Where a direction has stayed unobserved (a corridor; the window as of
+    // the scan before) nothing is held: carried by the IMU alone for seconds,
+    // the corridor walks' pitch went 3° wrong and they ran away (README);
+    // free, ICP keeps them near standing still, and the state says lost.
     const IcpResult icp = icp_.align(registered_, map_, predicted, !unobserved_direction_.unobserved());
     result.registered = icp.matches_kept >= 6;
     result.converged = icp.converged;
@@ -177,7 +178,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.residual_rms_m = icp.residual_rms_m;
     result.covariance = icp.covariance;
     result.degeneracy = icp.degeneracy;
-    result.translation_held_w = icp.held_translation_w;
+    result.held_translation_w = icp.held_translation_w;
     timing.icp_matching_s = icp.matching_s;
     timing.icp_solve_s = icp.solve_s;
     result.correction_w = icp.T_wl.translation() - predicted.translation();

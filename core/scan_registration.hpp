@@ -138,7 +138,7 @@ struct ScanResult {
   double matched_ratio = 0;  // IcpResult::matched_ratio
   double residual_rms_m = 0;
   Degeneracy degeneracy;
-  Eigen::Vector3d translation_held_w = Eigen::Vector3d::Zero();  // IcpResult::held_translation_w
+  Eigen::Vector3d held_translation_w = Eigen::Vector3d::Zero();  // IcpResult::held_translation_w
   std::size_t points_in = 0;
   std::size_t points_downsampled = 0;
   std::size_t points_registered = 0;  // that entered ICP (registration_voxel_size_m)

@@ -142,7 +142,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
                       .position_sigma_m = registration.position_sigma_m,
                       .map_start = registration.map_initialised,
                       .expected_error_m = registration.expected_error_icp_m,
-                      .unmeasured_w = Eigen::Vector3f(registration.translation_held_w.data()).cast<double>()};
+                      .unmeasured_w = Eigen::Vector3f(registration.held_translation_w.data()).cast<double>()};
   scan.T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
   scan.T_wl.translation() =
       Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
@@ -387,7 +387,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.converged = result.converged;
   out.position_sigma_m = result.position_sigma_m;
   for (int i = 0; i < 3; ++i)
-    out.translation_held_w[static_cast<std::size_t>(i)] = static_cast<float>(result.translation_held_w[i]);
+    out.held_translation_w[static_cast<std::size_t>(i)] = static_cast<float>(result.held_translation_w[i]);
   out.inlier_ratio = static_cast<float>(result.inlier_ratio);
   out.matched_ratio = static_cast<float>(result.matched_ratio);
   out.correction_m = static_cast<float>(result.correction_w.norm());

@@ -82,7 +82,7 @@ struct RegistrationRecord {
   bool map_initialised = false;  // the scan that started the map
   bool converged = false;
   double position_sigma_m = 0.0;  // for the fuser's velocity filter
-  std::array<float, 3> translation_held_w{};  // ScanResult::translation_held_w: unmeasured by this scan
+  std::array<float, 3> held_translation_w{};  // ScanResult::held_translation_w: unmeasured by this scan
   float inlier_ratio = 0.0f;
   float matched_ratio = 0.0f;      // ICP points with a map match at the last iteration
   float correction_m = 0.0f;       // ICP's pose from the IMU-propagated one, at the scan start

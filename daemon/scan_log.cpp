@@ -30,7 +30,7 @@ void ScanLog::on_registration(const RegistrationRecord& r) {
   fmt::print(file_.get(), ",{},{},{:d},{:.5f},{:d},{:d},{:d}", r.map_points, r.map_points_seen_through,
              r.direction_unobserved, r.expected_error_icp_m, r.spin_rate_unmeasured,
              scan_verdict(r, health_) == ScanVerdict::Good,
-             r.translation_held_w != std::array<float, 3>{});
+             r.held_translation_w != std::array<float, 3>{});
   float total_ms = 0.0f;
   for (std::size_t i = 0; i < r.num_stages; ++i) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);

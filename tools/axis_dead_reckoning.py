@@ -44,7 +44,8 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     parser.add_argument('run', help='tumble-sim run folder (manifest.yaml, imu.pcap, ground_truth.tum)')
     parser.add_argument('out', help='output prefix')
-    parser.add_argument('--axis', type=int, default=0, help='world axis dead-reckoned (0 = x, the corridor)')
+    parser.add_argument('--axis', type=int, default=0, choices=[0, 1],
+                        help='horizontal world axis dead-reckoned (0 = x, the corridor)')
     parser.add_argument('--tumble-dump', default='build/release/tools/dump/tumble-dump')
     parser.add_argument('--static-s', type=float, default=1.0, help='levelling window at the start')
     args = parser.parse_args()
@@ -58,6 +59,7 @@ def main():
     first_time_fine = int(manifest_value(manifest, 'first_sample_time_fine'))
     drift_ppm = float(manifest_value(manifest, 'drift_ppm'))
     offset_s = float(manifest_value(manifest, 'imu_time_offset_s'))
+    truth_rate_hz = float(manifest_value(manifest[manifest.index('ground_truth:'):], 'rate_hz'))
     rate_hz = float(manifest_value(manifest[manifest.index('imu:'):], 'rate_hz'))
 
     truth = [[float(f) for f in line.split()] for line in open(f'{args.run}/ground_truth.tum')
@@ -65,9 +67,9 @@ def main():
     t0 = truth[0][0]
 
     def truth_at(t):
-        # Linear between the 1 kHz poses: a rolling cage turns 2.7 mrad in a
+        # Linear between the poses: a rolling cage turns 2.7 mrad in a
         # millisecond, which leaks 0.026 m/s2 of gravity along the axis.
-        u = (t - t0) * 1000.0
+        u = (t - t0) * truth_rate_hz
         i = max(0, min(len(truth) - 2, int(math.floor(u))))
         w = min(1.0, max(0.0, u - i))
         a, b = truth[i], list(truth[i + 1])
@@ -81,6 +83,8 @@ def main():
                           check=True).stdout
     samples = []
     for row in csv.DictReader(io.StringIO(dump)):
+        if not row['t_sensor_s'] or not row['ax']:
+            continue  # a frame without a time or an acceleration
         # The manifest's clock: sample k is sent at first_sample_s + k / rate / (1 + drift) and is the
         # mean over the period centred imu_time_offset_s later.
         k = round((float(row['t_sensor_s']) * 1e4 - first_time_fine) / (1e4 / rate_hz))
@@ -101,12 +105,12 @@ def main():
     bias_body = rotate((-q_start[0], -q_start[1], -q_start[2], q_start[3]),
                        (mean[0], mean[1], mean[2] - standard_gravity))
     axis = args.axis
-    dt = 1.0 / rate_hz
     for variant in ('tilt', 'level-floor'):
         position = truth_at(samples[0][0])[1 + axis]
         velocity = 0.0
         with open(f'{args.out}-{variant}.tum', 'w') as out:
-            for t, f in samples:
+            for k, (t, f) in enumerate(samples):
+                dt = t - samples[k - 1][0] if k > 0 else 1.0 / rate_hz  # a sample is its period's mean
                 pose = truth_at(t)
                 specific_w = rotate(pose[4:8], f)
                 if variant == 'tilt':

@@ -553,6 +553,53 @@ TEST(ImuFuser, SaturationIsFlaggedPerLidarAxisAndAccelClipsLastUntilTheNextVeloc
   EXPECT_FALSE(trajectory.back().saturated[0]);
 }
 
+TEST(ImuFuser, TheScanAfterAHeldOneDoesNotPassTheHeldDriftIntoTheVelocity) {
+  // At rest. A scan held x at a prediction 10 cm off (drifted); the next one
+  // measures x again at the truth. The interval between them starts from a
+  // prediction along x: taken as measured, its 10 cm would be 1 m/s.
+  Truth truth;
+  ImuFuser fuser(device_attitude_params());
+  feed(fuser, truth, 0, 400);
+  const Eigen::Isometry3d at_rest = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero());
+  correct_scan(fuser, sample_time(250), at_rest, 0.01);
+  const double t_held = sample_time(260);
+  fuser.correct_with_registered_pose({.t_start_s = t_held,
+                                      .t_end_s = t_held + kScanS,
+                                      .T_wl = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.1, 0, 0)),
+                                      .position_sigma_m = 0.01,
+                                      .unmeasured_w = Eigen::Vector3d::UnitX()});
+  correct_scan(fuser, sample_time(270), at_rest, 0.01);
+  EXPECT_LT(std::abs(fuser.trajectory().back().v_w.x()), 0.01);
+}
+
+TEST(ImuFuser, AClippedAxisStaysUnknownThroughAScanThatHeldItsTranslation) {
+  Truth truth;  // at rest
+  ImuFuser fuser(device_attitude_params());
+  feed(fuser, truth, 0, 150);
+  ImuSample clipped = sample_at(truth, sample_time(151));
+  clipped.accel_saturated[0] = true;
+  clipped.accel_saturated[1] = true;
+  fuser.add_imu(clipped);
+  feed(fuser, truth, 152, 400);
+  correct_scan(fuser, sample_time(250), fuser.trajectory().pose_at(sample_time(250)), 0.01);
+  const double t_held = sample_time(260);
+  fuser.correct_with_registered_pose({.t_start_s = t_held,
+                                      .t_end_s = t_held + kScanS,
+                                      .T_wl = fuser.trajectory().pose_at(t_held),
+                                      .position_sigma_m = 0.01,
+                                      .unmeasured_w = Eigen::Vector3d::UnitX()});
+  // The update at the mid time (2.55 s) measured y, not x.
+  const Trajectory& trajectory = fuser.trajectory();
+  EXPECT_EQ(trajectory[sample_before(trajectory, sample_time(258))].accel_saturated,
+            (std::array<bool, 3>{true, false, false}));
+  // The next interval starts at the held scan: x still unmeasured.
+  correct_scan(fuser, sample_time(270), fuser.trajectory().pose_at(sample_time(270)), 0.01);
+  EXPECT_TRUE(trajectory[sample_before(trajectory, sample_time(268))].accel_saturated[0]);
+  correct_scan(fuser, sample_time(280), fuser.trajectory().pose_at(sample_time(280)), 0.01);
+  EXPECT_EQ(trajectory[sample_before(trajectory, sample_time(278))].accel_saturated,
+            (std::array<bool, 3>{false, false, false}));
+}
+
 // A yaw at `rate` from kMotionStart whose gyro reads (and flags) clipped_rate.
 struct ClippedYaw {
   Truth truth;

@@ -37,7 +37,7 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
     log.on_registration(good_scan_record(0));
     RegistrationRecord spin = good_scan_record(1);
     spin.spin_rate_unmeasured = true;
-    spin.translation_held_w = {0.0f, -1.0f, 0.0f};
+    spin.held_translation_w = {0.0f, -1.0f, 0.0f};
     log.on_registration(spin);
     RegistrationRecord loose = good_scan_record(2);
     loose.expected_error_m = 0.045f;  // over the default 0.04, within this config's 0.05
