@@ -155,6 +155,39 @@ TEST(Odometry, ACorridorsAxisIsPublishedAsUnobservedAndTheRoomsDirectionsAreNot)
   }
 }
 
+TEST(Odometry, AWeakScanHoldsTheCorridorsAxisUntilTheDirectionIsDeclaredUnobserved) {
+  // The corridor above, with the hold on at the weak-scan threshold (as
+  // tumbled's config sets it): the weak scans hold x at the prediction until
+  // the window declares x unobserved (ICP runs before its own scan enters
+  // the window, so the scan that tips it still holds); from then on, none.
+  OdometryParams params = test_params(true);
+  params.unobserved.window_scans = 5;
+  params.unobserved.weak_min_eigenvalue = 0.003;
+  params.icp.hold_weak_translation_share = params.unobserved.weak_min_eigenvalue;
+  YawAndDrive down_the_axis;
+  down_the_axis.velocity_w = Eigen::Vector3d(1.0, 0.0, 0.0);
+  down_the_axis.yaw_rate_rad_s = 0.0;
+  const RunSummary corridor =
+      run(down_the_axis, params, test::full_or_coarse(1.5, 1.2), small_lidar(), test::make_corridor());
+  std::size_t on_map = 0, held = 0, free = 0;
+  for (const ScanResult& r : corridor.results) {
+    if (r.map_initialised || !r.registered) continue;
+    ++on_map;
+    if (on_map <= params.unobserved.window_scans) {
+      EXPECT_GT(std::abs(r.held_translation_w.x()), 0.99) << r.scan_index;
+      ++held;
+    } else {
+      EXPECT_EQ(r.held_translation_w, Eigen::Vector3d::Zero()) << r.scan_index;
+      ++free;
+    }
+  }
+  EXPECT_EQ(held, params.unobserved.window_scans);
+  EXPECT_GE(free, 3u);
+
+  const RunSummary room = run(YawAndDrive{}, params, test::full_or_coarse(1.5, 1.2), small_lidar());
+  for (const ScanResult& r : room.results) EXPECT_EQ(r.held_translation_w, Eigen::Vector3d::Zero()) << r.scan_index;
+}
+
 TEST(Odometry, DeskewingBeatsNoDeskewingUnderFastRotation) {
   YawAndDrive motion;
   motion.yaw_rate_rad_s = 6.0;  // 34 degrees per revolution of the lidar
