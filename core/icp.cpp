@@ -315,19 +315,20 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     eigen.compute(H);
     const Vector6d lambda = eigen.eigenvalues();
     const double cutoff = lambda(5) * kPseudoInverseCutoff;
-    Vector6d step_scaled = Vector6d::Zero();
+    Vector6d pseudo_inverse_step = Vector6d::Zero();
     Matrix6d H_inv = Matrix6d::Zero();
+    for (int e = 0; e < 6; ++e) {
+      const Vector6d v = eigen.eigenvectors().col(e);
+      const double l = std::max(lambda(e), cutoff);
+      if (lambda(e) > cutoff) pseudo_inverse_step -= v * (v.dot(g) / l);
+      H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
+    }
     const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
     const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
                       weakest_translation.norm() > kMinHeldTranslationNorm;
     result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
-    if (hold) step_scaled = step_holding_translation(H, g, result.held_translation_w);
-    for (int e = 0; e < 6; ++e) {
-      const Vector6d v = eigen.eigenvectors().col(e);
-      const double l = std::max(lambda(e), cutoff);
-      if (lambda(e) > cutoff && !hold) step_scaled -= v * (v.dot(g) / l);
-      H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
-    }
+    const Vector6d step_scaled =
+        hold ? step_holding_translation(H, g, result.held_translation_w) : pseudo_inverse_step;
     have_system = true;
     // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
     Vector6d unscale;
