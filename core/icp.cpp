@@ -36,6 +36,19 @@ Vector6d step_holding_translation(const Matrix6d& H, const Vector6d& g, const Ei
   return kkt.fullPivLu().solve(rhs).head<6>();
 }
 
+// The Gauss-Newton step minimising ½xᵀHx + gᵀx, with no component along
+// H's numerically zero eigenvalues (kPseudoInverseCutoff).
+Vector6d minimum_norm_step(const Matrix6d& H, const Vector6d& g) {
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
+  const Vector6d lambda = eigen.eigenvalues();
+  Vector6d step = Vector6d::Zero();
+  for (int e = 0; e < 6; ++e) {
+    const Vector6d v = eigen.eigenvectors().col(e);
+    if (lambda(e) > lambda(5) * kPseudoInverseCutoff) step -= v * (v.dot(g) / lambda(e));
+  }
+  return step;
+}
+
 // Fresh neighbour searches reach this factor times max_match_distance_m, and
 // keep this many neighbours beyond match_k: the farther the last kept one,
 // the larger the moves over which the search can be reused.
@@ -202,7 +215,7 @@ std::size_t Icp::match_point(std::size_t i, const PointCloud& reading, const Loc
 }
 
 IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl,
-                     bool hold_weak_translation) {
+                     bool hold_weak_translation, const Eigen::Matrix3d& prior_information_w) {
   IcpResult result;
   Eigen::Matrix3d R = initial_T_wl.rotation();
   Eigen::Vector3d t = initial_T_wl.translation();
@@ -214,6 +227,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * std::numbers::pi / 180.0);
   bool normal_test_on = false;
   recent_translation_m_.clear();
+  const bool has_prior = !prior_information_w.isZero();
 
   const std::size_t n = reading.size();
   const std::size_t k = static_cast<std::size_t>(params_.match_k);
@@ -323,12 +337,20 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       if (lambda(e) > cutoff) pseudo_inverse_step -= v * (v.dot(g) / l);
       H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
     }
+    // The prior in the normal matrix's units: it holds the covariance s²·H⁻¹.
+    Matrix6d H_step = H;
+    Vector6d g_step = g;
+    if (has_prior && residual_variance > 0) {
+      H_step.topLeftCorner<3, 3>() += residual_variance * prior_information_w;
+      g_step.head<3>() += residual_variance * prior_information_w * (t - initial_T_wl.translation());
+      pseudo_inverse_step = minimum_norm_step(H_step, g_step);
+    }
     const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
     const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
                       weakest_translation.norm() > kMinHeldTranslationNorm;
     result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
     const Vector6d step_scaled =
-        hold ? step_holding_translation(H, g, result.held_translation_w) : pseudo_inverse_step;
+        hold ? step_holding_translation(H_step, g_step, result.held_translation_w) : pseudo_inverse_step;
     have_system = true;
     // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
     Vector6d unscale;

@@ -18,6 +18,7 @@
 #include "core/parallel_runner.hpp"
 #include "core/point_cloud.hpp"
 #include "core/point_weights.hpp"
+#include "core/position_uncertainty.hpp"
 #include "core/registration_confidence.hpp"
 #include "core/scan_line_normals.hpp"
 #include "core/seen_through.hpp"
@@ -72,6 +73,9 @@ struct OdometryParams {
   UnobservedDirectionParams unobserved;
   // The published covariance: κ, the floor, the normals' noise (registration_confidence.hpp).
   RegistrationConfidenceParams confidence;
+  // The prediction as ICP's prior and in the published covariance
+  // (position_uncertainty.hpp); off by default (the paper's ICP).
+  PositionUncertaintyParams position;
   // Registration: max_match_distance_m 1, match_k 1, FRMSD 0.5/0.7/2.35,
   // max_iterations 40, convergence. `icp.weighting` is set from the weight
   // model (SAW: the point's weight; the others: inverse variance).
@@ -122,6 +126,9 @@ struct ScanResult {
   Matrix6d covariance_published = published_covariance(Matrix6d::Identity());
   double expected_error_m = expected_position_error_m(covariance_published);
   bool direction_unobserved = false;  // UnobservedDirection: a direction the recent scans have not pinned
+  // This scan ended an unobserved spell: the map took points meanwhile at
+  // poses nothing measured along that direction (the daemon starts a new one).
+  bool unobserved_spell_ended = false;
   // The expected error of the ICP's covariance as it is, calibrated: what the
   // seen-through gate and the fuser's levelling go by (their thresholds were
   // chosen on it; a corridor pins the attitude, which is what levelling needs).
@@ -139,6 +146,7 @@ struct ScanResult {
   double residual_rms_m = 0;
   Degeneracy degeneracy;
   Eigen::Vector3d held_translation_w = Eigen::Vector3d::Zero();  // IcpResult::held_translation_w
+  bool prediction_prior = false;  // ICP had the prediction as a prior (PositionUncertainty)
   std::size_t points_in = 0;
   std::size_t points_downsampled = 0;
   std::size_t points_registered = 0;  // that entered ICP (registration_voxel_size_m)
@@ -209,6 +217,7 @@ class ScanRegistration {
   LocalMap map_;
   SeenThroughRemover seen_through_;
   UnobservedDirection unobserved_direction_;
+  PositionUncertainty position_uncertainty_;
   std::vector<MapBeam> beams_;
   std::size_t seen_through_scans_ = 0;  // scans that removed seen-through points: which beams are next
   std::vector<Eigen::Vector3d> returns_w_;  // the down-sampled scan in the world frame

@@ -26,21 +26,28 @@ bool UnobservedDirection::add(const Degeneracy& degeneracy) {
     ++filled_;
   }
   weak_[next_] = weak;
-  if (weak) {
-    direction_ = degeneracy.direction;
-    direction_.tail<3>() /= degeneracy.length_scale_m;
-  }
+  if (weak) direction_ = weakest_direction(degeneracy);
   weak_count_ += weak ? 1 : 0;
   next_ = (next_ + 1) % weak_.size();
   // Judged over a full window only: a run's first scans say little.
   const double fraction = static_cast<double>(weak_count_) / static_cast<double>(weak_.size());
+  const bool was_unobserved = unobserved_;
   if (filled_ == weak_.size() && fraction >= params_.enter_fraction) unobserved_ = true;
   if (fraction < 0.5 * params_.enter_fraction) unobserved_ = false;
+  spell_ended_ = was_unobserved && !unobserved_;
   return unobserved_;
 }
 
-void UnobservedDirection::widen(Matrix6d& covariance) const {
-  covariance += params_.sigma_m * params_.sigma_m * direction_ * direction_.transpose();
+void UnobservedDirection::widen(Matrix6d& covariance) const { widen_along(covariance, direction_, params_.sigma_m); }
+
+Vector6d weakest_direction(const Degeneracy& degeneracy) {
+  Vector6d direction = degeneracy.direction;
+  direction.tail<3>() /= degeneracy.length_scale_m;
+  return direction;
+}
+
+void widen_along(Matrix6d& covariance, const Vector6d& direction, double sigma_m) {
+  covariance += sigma_m * sigma_m * direction * direction.transpose();
 }
 
 }  // namespace tumble

@@ -31,6 +31,11 @@ struct UnobservedDirectionParams {
 // Throws std::invalid_argument naming the parameter out of range.
 void check_unobserved_direction_params(const UnobservedDirectionParams& params);
 
+// Degeneracy::direction in the covariance's coordinates (rotation in radians).
+Vector6d weakest_direction(const Degeneracy& degeneracy);
+// Adds sigma_m² to a covariance over (tx, ty, tz, rx, ry, rz) along a unit direction of it.
+void widen_along(Matrix6d& covariance, const Vector6d& direction, double sigma_m);
+
 class UnobservedDirection {
  public:
   explicit UnobservedDirection(const UnobservedDirectionParams& params);
@@ -42,6 +47,8 @@ class UnobservedDirection {
   bool add(const Degeneracy& degeneracy);
   // What the last add() returned (false before any).
   bool unobserved() const { return unobserved_; }
+  // Whether the last add() ended an unobserved spell.
+  bool spell_ended() const { return spell_ended_; }
 
   // Adds sigma_m² to a published covariance over (tx, ty, tz, rx, ry, rz)
   // along the weakest direction of the newest weak scan (not the scan's own:
@@ -56,6 +63,7 @@ class UnobservedDirection {
   std::size_t filled_ = 0;
   std::size_t weak_count_ = 0;
   bool unobserved_ = false;
+  bool spell_ended_ = false;
 };
 
 }  // namespace tumble

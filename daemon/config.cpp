@@ -127,6 +127,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("unobserved_fraction", r.unobserved_fraction, Range{0.01, 1.0});
     v.field("unobserved_sigma_m", r.unobserved_sigma_m, Range{0.001, 1000.0});
     v.field("hold_weak_translation", r.hold_weak_translation, AnyText{});
+    v.field("prediction_sigma_m", r.prediction_sigma_m, Range{0.0, 10.0});
     v.field("sigma_n_floor_m", r.sigma_n_floor_m, Range{0.0, 1.0});
     v.field("sigma_n_beam_rad", r.sigma_n_beam_rad, Range{0.0, 0.1});
     v.field("tw_c1_m_s", r.tw_c1_m_s, Range{0.0, 100.0});

@@ -100,6 +100,7 @@ struct RegistrationConfig {
   double unobserved_fraction = 0.9;
   double unobserved_sigma_m = 1.0;
   bool hold_weak_translation = true;
+  double prediction_sigma_m = 0.02;
   double sigma_n_floor_m = 0.02;
   double sigma_n_beam_rad = 0.0015;
   double tw_c1_m_s = 0.25;

@@ -353,6 +353,14 @@ void CoreRegistrationStage::keep_track(const ScanResult& result) {
     scans_lost_in_a_row_ = 0;
     previous_pose_ = newest_pose_;
     newest_pose_ = Pose{result.t_scan_start_s, result.T_wl};
+    // Through an unobserved spell the map took points at poses nothing
+    // measured along that direction: a corridor's stretched or shifted.
+    // Scans that pin the direction again (the corridor's end) would
+    // register well on it, and be published as good, while the pose slides
+    // with the map's error (bench2's long-07 and -08, the prediction ICP's
+    // prior: 40 and 266 scans good that had slid over 20 cm in 10 scans; 6
+    // and 0 with this). A new map starts with the next scan instead.
+    if (result.unobserved_spell_ended) reset_map(TrackingLoss::UnobservedMap);
     return;
   }
   if (++scans_lost_in_a_row_ < kScansToReset) return;
@@ -388,6 +396,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.position_sigma_m = result.position_sigma_m;
   for (int i = 0; i < 3; ++i)
     out.held_translation_w[static_cast<std::size_t>(i)] = static_cast<float>(result.held_translation_w[i]);
+  out.prediction_prior = result.prediction_prior;
   out.inlier_ratio = static_cast<float>(result.inlier_ratio);
   out.matched_ratio = static_cast<float>(result.matched_ratio);
   out.correction_m = static_cast<float>(result.correction_w.norm());

@@ -45,6 +45,7 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.unobserved.sigma_m = r.unobserved_sigma_m;
   p.icp.hold_weak_translation_share = r.hold_weak_translation ? r.unobserved_min_eigenvalue : 0.0;
   p.fuser.unmeasured_position_sigma_m = r.unobserved_sigma_m;
+  p.position.prediction_sigma_m = r.prediction_sigma_m;
 
   p.weights.model = r.model;
   p.weights.tw_c1_m_s = r.tw_c1_m_s;

@@ -51,6 +51,7 @@ enum class TrackingLoss : std::uint8_t {
   NotRegistered,      // consecutive scans without enough matches
   DisagreesWithImu,   // consecutive registrations far from the IMU-propagated pose
   LidarSilent,        // no scan for longer than daemon.health.lidar_silent_to_lost_s
+  UnobservedMap,      // a direction pinned again after an unobserved spell: the map grew on unmeasured poses
 };
 constexpr std::string_view to_string(TrackingLoss loss) {
   switch (loss) {
@@ -62,6 +63,8 @@ constexpr std::string_view to_string(TrackingLoss loss) {
       return "registrations disagree with the IMU-propagated pose";
     case TrackingLoss::LidarSilent:
       return "lidar silent too long: the IMU alone carried the pose";
+    case TrackingLoss::UnobservedMap:
+      return "a direction unobserved for a while is pinned again: the map grew on poses not measured along it";
   }
   return "unknown";
 }
@@ -83,6 +86,7 @@ struct RegistrationRecord {
   bool converged = false;
   double position_sigma_m = 0.0;  // for the fuser's velocity filter
   std::array<float, 3> held_translation_w{};  // ScanResult::held_translation_w: unmeasured by this scan
+  bool prediction_prior = false;              // ScanResult::prediction_prior
   float inlier_ratio = 0.0f;
   float matched_ratio = 0.0f;      // ICP points with a map match at the last iteration
   float correction_m = 0.0f;       // ICP's pose from the IMU-propagated one, at the scan start

@@ -13,7 +13,7 @@ ScanLog::ScanLog(std::string path, const std::vector<std::string>& stage_names, 
              "scan_index,t_s,registered,converged,iterations,inlier_ratio,residual_m,degeneracy,matched_ratio,"
              "correction_m,correction_deg,points_in,points_used,sigma_s_median_m,correction_x_m,correction_y_m,"
              "correction_z_m,expected_error_m,cov_txx,cov_tyy,cov_tzz,cov_txy,cov_txz,cov_tyz,map_points,map_seen_through,"
-             "direction_unobserved,expected_error_icp_m,spin_rate_unmeasured,good_scan,translation_held");
+             "direction_unobserved,expected_error_icp_m,spin_rate_unmeasured,good_scan,translation_held,prediction_prior");
   for (const std::string& name : stage_names) fmt::print(file_.get(), ",{}_ms", name);
   fmt::print(file_.get(), ",total_ms,latency_ms\n");
 }
@@ -27,10 +27,10 @@ void ScanLog::on_registration(const RegistrationRecord& r) {
   fmt::print(file_.get(), ",{:.5f}", r.expected_error_m);
   // The published position covariance (upper triangle), for checking it against ground truth.
   for (const std::size_t i : {0, 7, 14, 1, 2, 8}) fmt::print(file_.get(), ",{:.4g}", r.covariance[i]);
-  fmt::print(file_.get(), ",{},{},{:d},{:.5f},{:d},{:d},{:d}", r.map_points, r.map_points_seen_through,
+  fmt::print(file_.get(), ",{},{},{:d},{:.5f},{:d},{:d},{:d},{:d}", r.map_points, r.map_points_seen_through,
              r.direction_unobserved, r.expected_error_icp_m, r.spin_rate_unmeasured,
              scan_verdict(r, health_) == ScanVerdict::Good,
-             r.held_translation_w != std::array<float, 3>{});
+             r.held_translation_w != std::array<float, 3>{}, r.prediction_prior);
   float total_ms = 0.0f;
   for (std::size_t i = 0; i < r.num_stages; ++i) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);

@@ -12,6 +12,7 @@
 // which ends the run of good scans and degrades tumbled from tracking),
 // translation_held (1: ICP held the translation along the scan's weakest
 // direction at the prediction, IcpParams::hold_weak_translation_share),
+// prediction_prior (1: the prediction was ICP's prior, position_uncertainty.hpp),
 // <stage>_ms per stage, total_ms, latency_ms (scan complete → handed to the
 // publisher). Written atomically like the trajectory file.
 #pragma once

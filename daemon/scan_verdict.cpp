@@ -7,8 +7,12 @@ ScanVerdict scan_verdict(const RegistrationRecord& r, const HealthConfig& health
   if (r.spin_rate_unmeasured) return ScanVerdict::SpinRateUnmeasured;
   if (r.direction_unobserved) return ScanVerdict::DirectionUnobserved;
   if (weakly_constrained(r, health.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
-  const bool good = r.registered && r.converged && r.matched_ratio >= health.min_matched_ratio &&
-                    r.degeneracy >= health.min_degeneracy;
+  // A weakly pinned direction is a poor registration only where nothing
+  // else holds it: with the prediction as ICP's prior, the published
+  // covariance (and so the expected error, above) carries how well it is
+  // known (core/position_uncertainty.hpp).
+  const bool pinned = r.degeneracy >= health.min_degeneracy || r.prediction_prior;
+  const bool good = r.registered && r.converged && r.matched_ratio >= health.min_matched_ratio && pinned;
   return good ? ScanVerdict::Good : ScanVerdict::PoorRegistration;
 }
 

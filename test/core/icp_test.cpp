@@ -250,6 +250,36 @@ TEST(Icp, HoldsNothingWhereEveryDirectionIsPinned) {
   EXPECT_EQ(ours.iterations, paper.iterations);
 }
 
+TEST(Icp, APriorKeepsACorridorsAxisNearThePredictionAndLeavesThePinnedDirectionsToTheScan) {
+  CorridorFixture f;
+  Icp icp;  // no hold: the prior alone
+  const Eigen::Isometry3d guess =
+      test::make_pose(f.truth.translation() + Eigen::Vector3d(0.2, 0.05, 0.0), 0, 1 * kDeg, 0.3 + 1 * kDeg);
+  // The noise-free corridor still pins its axis to millimetres (its edges'
+  // normals lean along it), so the prior is a millimetre: it decides x, the
+  // walls and floor decide y, z and the rotation.
+  const Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / (0.001 * 0.001);
+  const IcpResult r = icp.align(f.reading, f.map, guess, true, information);
+  EXPECT_NEAR(r.T_wl.translation().x(), guess.translation().x(), 0.002);
+  EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
+  EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), test::full_or_coarse(0.02, 0.2) * kDeg);
+  // The covariance is the scan's own: the prior does not narrow it.
+  EXPECT_GT(r.covariance(0, 0), 10 * 0.001 * 0.001);
+  // Without it, x goes where the edges' normals say.
+  const IcpResult free = icp.align(f.reading, f.map, guess);
+  EXPECT_GT(std::abs(free.T_wl.translation().x() - guess.translation().x()), 0.02);
+}
+
+TEST(Icp, APriorBarelyMovesAPoseTheScanPins) {
+  RoomFixture f(false);
+  const Eigen::Isometry3d guess = offset_guess(f.truth);
+  const IcpResult paper = Icp().align(f.reading, f.map, guess);
+  const IcpResult with_prior =
+      Icp().align(f.reading, f.map, guess, true, Eigen::Matrix3d::Identity() / (0.02 * 0.02));
+  EXPECT_LT((with_prior.T_wl.translation() - paper.T_wl.translation()).norm(), 1e-3);
+  EXPECT_LT((with_prior.T_wl.translation() - f.truth.translation()).norm(), test::full_or_coarse(0.005, 0.02));
+}
+
 TEST(Icp, MatchedRatioIsTheShareOfReadingPointsNearTheMap) {
   // The room's own samples match but those whose map normal is not valid
   // (edges, corners); the same many again, 5 m above the room (beyond

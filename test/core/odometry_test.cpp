@@ -188,6 +188,50 @@ TEST(Odometry, AWeakScanHoldsTheCorridorsAxisUntilTheDirectionIsDeclaredUnobserv
   for (const ScanResult& r : room.results) EXPECT_EQ(r.held_translation_w, Eigen::Vector3d::Zero()) << r.scan_index;
 }
 
+TEST(Odometry, ThePredictionIsThePriorUntilTheDirectionIsDeclaredUnobservedAndBoundsTheWeakAxis) {
+  // The corridor again, with the prediction as ICP's prior (as tumbled's
+  // config sets it): every scan on the map has it until the window declares
+  // x unobserved; the published covariance along x is then the scan's own,
+  // widened, and before that the prediction's, growing scan by scan.
+  OdometryParams params = test_params(true);
+  params.unobserved.window_scans = 5;
+  params.unobserved.weak_min_eigenvalue = 0.003;
+  params.position.prediction_sigma_m = 0.02;
+  YawAndDrive down_the_axis;
+  down_the_axis.velocity_w = Eigen::Vector3d(1.0, 0.0, 0.0);
+  down_the_axis.yaw_rate_rad_s = 0.0;
+  const RunSummary corridor =
+      run(down_the_axis, params, test::full_or_coarse(1.5, 1.2), small_lidar(), test::make_corridor());
+  std::size_t on_map = 0, with_prior = 0;
+  double previous_var_x = 0;
+  for (const ScanResult& r : corridor.results) {
+    if (r.map_initialised || !r.registered) continue;
+    ++on_map;
+    const double var_x = r.covariance_published(0, 0);
+    if (on_map <= params.unobserved.window_scans) {
+      EXPECT_TRUE(r.prediction_prior) << r.scan_index;
+      EXPECT_LE(var_x, 2 * 0.02 * 0.02 * on_map) << r.scan_index;  // the prediction's, at most
+      EXPECT_GT(var_x, previous_var_x) << r.scan_index;             // and growing: x is never pinned
+      previous_var_x = var_x;
+      ++with_prior;
+    } else {
+      EXPECT_FALSE(r.prediction_prior) << r.scan_index;
+      EXPECT_GT(std::sqrt(var_x), 0.5) << r.scan_index;  // unobserved: widened by sigma_m (1 m)
+    }
+  }
+  EXPECT_EQ(with_prior, params.unobserved.window_scans);
+  EXPECT_GT(on_map, with_prior + 2);
+
+  // In the room every direction is pinned: the scans' own millimetres decide.
+  const RunSummary room = run(YawAndDrive{}, params, test::full_or_coarse(1.5, 1.2), small_lidar());
+  for (const ScanResult& r : room.results) {
+    if (r.map_initialised || !r.registered) continue;
+    EXPECT_TRUE(r.prediction_prior) << r.scan_index;
+    EXPECT_LT(r.expected_error_m, 0.01) << r.scan_index;
+  }
+  EXPECT_LT(room.max_translation_error_m, test::kCoarseTests ? 0.03 : 0.01);
+}
+
 TEST(Odometry, DeskewingBeatsNoDeskewingUnderFastRotation) {
   YawAndDrive motion;
   motion.yaw_rate_rad_s = 6.0;  // 34 degrees per revolution of the lidar

@@ -24,6 +24,22 @@ UnobservedDirectionParams params() {
   return p;
 }
 
+TEST(UnobservedDirection, SaysWhichScanEndedASpell) {
+  UnobservedDirection tracker(params());
+  const Degeneracy weak = weakest(0.001), strong = weakest(0.01);
+  for (int i = 0; i < 10; ++i) tracker.add(weak);
+  ASSERT_TRUE(tracker.unobserved());
+  EXPECT_FALSE(tracker.spell_ended());
+  // 10 in the window: the spell ends once fewer than 4.5 are weak, at the 6th strong scan.
+  for (int i = 1; i <= 6; ++i) {
+    tracker.add(strong);
+    EXPECT_EQ(tracker.spell_ended(), i == 6) << i;
+  }
+  tracker.add(strong);
+  EXPECT_FALSE(tracker.unobserved());
+  EXPECT_FALSE(tracker.spell_ended());  // once only
+}
+
 TEST(UnobservedDirection, AFullWindowAtTheBarMarksItAndFewerThanHalfTheBarClearsIt) {
   UnobservedDirection tracker(params());
   const Degeneracy weak = weakest(0.001), strong = weakest(0.01);

@@ -81,6 +81,14 @@ TEST(OdometryParamsFromConfig, AWeakScanHoldsItsTranslationAtTheWeakScansThresho
   EXPECT_THROW(load_config("registration:\n  hold_weak_translation: maybe\n", "test.yaml"), ConfigError);
 }
 
+TEST(OdometryParamsFromConfig, ThePredictionIsICPsPriorByDefaultAndZeroTurnsItOff) {
+  EXPECT_DOUBLE_EQ(odometry_params(DaemonConfig{}).position.prediction_sigma_m, 0.02);
+  EXPECT_DOUBLE_EQ(OdometryParams{}.position.prediction_sigma_m, 0.0);  // the core's: the paper's ICP
+  const OdometryParams off = odometry_params(load_config("registration:\n  prediction_sigma_m: 0\n", "test.yaml"));
+  EXPECT_DOUBLE_EQ(off.position.prediction_sigma_m, 0.0);
+  EXPECT_THROW(load_config("registration:\n  prediction_sigma_m: -0.01\n", "test.yaml"), ConfigError);
+}
+
 TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
   EXPECT_DOUBLE_EQ(scan_assembler_config(LidarConfig{}).min_scan_coverage, 0.9);
   const DaemonConfig config = load_config("lidar:\n  min_scan_coverage: 0.5\n  split_azimuth_deg: 90\n", "test.yaml");
