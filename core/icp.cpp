@@ -18,11 +18,6 @@ namespace {
 // step has no component along them (the initial guess is kept there).
 constexpr double kPseudoInverseCutoff = 1e-12;
 
-// A weakest direction is held (IcpParams::hold_weak_translation_share) when
-// it is mostly a translation: the norm of its translation part above this
-// (the whole eigenvector is unit, in the scaled coordinates).
-constexpr double kMinHeldTranslationNorm = 0.5;
-
 // The Gauss-Newton step minimising ½xᵀHx + gᵀx with no translation along the
 // unit vector `held` (Lagrange: [H e; eᵀ 0]). H may be singular along it: the
 // system stays solvable while the other five directions are observed.
@@ -227,7 +222,8 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * std::numbers::pi / 180.0);
   bool normal_test_on = false;
   recent_translation_m_.clear();
-  const bool has_prior = !prior_information_w.isZero();
+  // A prior that is not finite (a covariance gone wrong upstream) is no prior.
+  const bool has_prior = prior_information_w.allFinite() && !prior_information_w.isZero();
 
   const std::size_t n = reading.size();
   const std::size_t k = static_cast<std::size_t>(params_.match_k);
@@ -337,20 +333,22 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       if (lambda(e) > cutoff) pseudo_inverse_step -= v * (v.dot(g) / l);
       H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
     }
-    // The prior in the normal matrix's units: it holds the covariance s²·H⁻¹.
+    // The prior in the normal matrix's units: it holds the covariance s²·H⁻¹
+    // (none without a residual variance: too few matches to weigh it against).
+    const bool prior_now = has_prior && residual_variance > 0;
     Matrix6d H_step = H;
     Vector6d g_step = g;
-    if (has_prior && residual_variance > 0) {
+    if (prior_now) {
       H_step.topLeftCorner<3, 3>() += residual_variance * prior_information_w;
       g_step.head<3>() += residual_variance * prior_information_w * (t - initial_T_wl.translation());
-      pseudo_inverse_step = minimum_norm_step(H_step, g_step);
     }
     const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
     const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
                       weakest_translation.norm() > kMinHeldTranslationNorm;
     result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
-    const Vector6d step_scaled =
-        hold ? step_holding_translation(H_step, g_step, result.held_translation_w) : pseudo_inverse_step;
+    const Vector6d step_scaled = hold        ? step_holding_translation(H_step, g_step, result.held_translation_w)
+                                 : prior_now ? minimum_norm_step(H_step, g_step)
+                                             : pseudo_inverse_step;
     have_system = true;
     // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
     Vector6d unscale;

@@ -1,6 +1,7 @@
 #include "core/position_uncertainty.hpp"
 
 #include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -11,42 +12,70 @@ void check_position_uncertainty_params(const PositionUncertaintyParams& params) 
   if (!(params.prediction_sigma_m >= 0) || !std::isfinite(params.prediction_sigma_m))
     throw std::invalid_argument("PositionUncertaintyParams: prediction_sigma_m must be finite and >= 0, got " +
                                 std::to_string(params.prediction_sigma_m));
+  if (!(params.scan_interval_s > 0) || !std::isfinite(params.scan_interval_s))
+    throw std::invalid_argument("PositionUncertaintyParams: scan_interval_s must be finite and > 0, got " +
+                                std::to_string(params.scan_interval_s));
 }
 
 PositionUncertainty::PositionUncertainty(const PositionUncertaintyParams& params) : params_(params) {
   check_position_uncertainty_params(params);
 }
 
-Eigen::Matrix3d PositionUncertainty::predicted() const {
-  return covariance_ + params_.prediction_sigma_m * params_.prediction_sigma_m * Eigen::Matrix3d::Identity();
+Eigen::Matrix3d PositionUncertainty::predicted(double t_s) const {
+  // At least one interval (the first scan, scans closer than the period);
+  // a longer gap's velocity error grows the position error linearly, its
+  // variance quadratically.
+  const double intervals = std::isfinite(updated_at_s_) ? std::max((t_s - updated_at_s_) / params_.scan_interval_s, 1.0) : 1.0;
+  const double sigma_m = params_.prediction_sigma_m * intervals;
+  return covariance_ + sigma_m * sigma_m * Eigen::Matrix3d::Identity();
 }
 
-Eigen::Matrix3d PositionUncertainty::prior_information(double covariance_scale) const {
+Eigen::Matrix3d PositionUncertainty::prior_information(double t_s, double covariance_scale) const {
   if (!enabled()) return Eigen::Matrix3d::Zero();
-  return covariance_scale * covariance_scale * predicted().inverse();
+  return covariance_scale * covariance_scale * predicted(t_s).inverse();
 }
 
-Matrix6d PositionUncertainty::fuse(const Matrix6d& scan_covariance) {
-  // The prediction as a measurement of the position (Kalman form: no
-  // inverse of the scan's covariance, which is huge along an unpinned direction).
-  const Eigen::Matrix3d innovation = scan_covariance.topLeftCorner<3, 3>() + predicted();
-  const Eigen::Matrix<double, 6, 3> gain = scan_covariance.leftCols<3>() * innovation.inverse();
-  Matrix6d fused = scan_covariance - gain * scan_covariance.topRows<3>();
+Matrix6d PositionUncertainty::fuse(double t_s, const Matrix6d& scan_covariance) {
+  if (!scan_covariance.allFinite()) {
+    predict_only(t_s);
+    return scan_covariance;
+  }
+  // The prediction as a measurement of the position, in the Kalman form
+  // (no inverse of the scan's covariance, which is huge along an unpinned
+  // direction), arranged so that nothing cancels: C − C S⁻¹ C over the
+  // translation is C S⁻¹ P, which stays P where C is huge.
+  const Eigen::Matrix3d prediction = predicted(t_s);
+  const Eigen::Matrix3d s_inverse = (scan_covariance.topLeftCorner<3, 3>() + prediction).inverse();
+  const Eigen::Matrix3d c_tt = scan_covariance.topLeftCorner<3, 3>();
+  const Eigen::Matrix3d c_rt = scan_covariance.bottomLeftCorner<3, 3>();
+  Matrix6d fused;
+  fused.topLeftCorner<3, 3>() = c_tt * s_inverse * prediction;
+  fused.bottomLeftCorner<3, 3>() = c_rt * s_inverse * prediction;
+  fused.topRightCorner<3, 3>() = fused.bottomLeftCorner<3, 3>().transpose();
+  fused.bottomRightCorner<3, 3>() = scan_covariance.bottomRightCorner<3, 3>() - c_rt * s_inverse * c_rt.transpose();
   fused = 0.5 * (fused + fused.transpose());
   covariance_ = fused.topLeftCorner<3, 3>();
+  updated_at_s_ = t_s;
   return fused;
 }
 
-void PositionUncertainty::take(const Matrix6d& scan_covariance) {
+void PositionUncertainty::replace_with_scan(double t_s, const Matrix6d& scan_covariance) {
   if (!scan_covariance.topLeftCorner<3, 3>().allFinite()) {
-    predict_only();
+    predict_only(t_s);
     return;
   }
   covariance_ = scan_covariance.topLeftCorner<3, 3>();
+  updated_at_s_ = t_s;
 }
 
-void PositionUncertainty::predict_only() { covariance_ = predicted(); }
+void PositionUncertainty::predict_only(double t_s) {
+  covariance_ = predicted(t_s);
+  updated_at_s_ = t_s;
+}
 
-void PositionUncertainty::reset() { covariance_.setZero(); }
+void PositionUncertainty::reset(double t_s) {
+  covariance_.setZero();
+  updated_at_s_ = t_s;
+}
 
 }  // namespace tumble

@@ -9,9 +9,15 @@
 // (Icp::align), and the published position covariance is the fusion of the
 // prediction's and the scan's: small where either pins the pose, growing by
 // the prediction's each scan that pins a direction no better than it.
+//
+// The prior weighs against the ICP's own s²·H⁻¹ scaled by κ², while the
+// fusion takes the published covariance (the normals' noise discounted, the
+// floor, the widenings): the ICP sees the information it solves with, the
+// published figure what the calibration says it is worth.
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 
 #include "core/icp.hpp"
 
@@ -19,11 +25,14 @@ namespace tumble {
 
 struct PositionUncertaintyParams {
   // σ per W axis of the predicted position over one scan interval (0: no
-  // prior, the paper's ICP; tumbled's default is 0.02). The increment errors of the prediction on
-  // bench2 (GVTW + de-skew): median 0.6-0.8 cm and 90th percentile 1.0-1.9 cm
-  // in the yard and garage, 1.6-1.9 and 2.4 cm in the shocked cage runs
-  // (norms, over all three axes).
+  // prior, the paper's ICP; tumbled's default is 0.02). The increment errors
+  // of the prediction on bench2 (GVTW + de-skew): median 0.6-0.8 cm and 90th
+  // percentile 1.0-1.9 cm in the yard and garage, 1.6-1.9 and 2.4 cm in the
+  // shocked cage runs (norms, over all three axes).
   double prediction_sigma_m = 0.0;
+  // The interval σ is for; a longer one (scans lost or skipped, a short lidar
+  // gap) grows it in proportion: a velocity error carries on.
+  double scan_interval_s = 0.1;
 };
 
 // Throws std::invalid_argument naming the parameter out of range.
@@ -34,29 +43,34 @@ class PositionUncertainty {
   explicit PositionUncertainty(const PositionUncertaintyParams& params);
 
   bool enabled() const { return params_.prediction_sigma_m > 0; }
-  // The covariance of the next scan's predicted position (W axes, m²): the
-  // last scan's plus one interval's prediction error.
-  Eigen::Matrix3d predicted() const;
+  // The time of the last update (-inf before any): what the prediction of
+  // the next scan spans from.
+  double updated_at_s() const { return updated_at_s_; }
+  // The covariance of the predicted position at t_s (W axes, m²): the last
+  // update's plus the prediction's error since.
+  Eigen::Matrix3d predicted(double t_s) const;
   // The same as an information matrix for Icp::align, in the units of the
   // ICP's own covariance: `covariance_scale` is the calibration κ of that
-  // covariance (registration_confidence.hpp).
-  Eigen::Matrix3d prior_information(double covariance_scale) const;
+  // covariance (registration_confidence.hpp). Zero when disabled.
+  Eigen::Matrix3d prior_information(double t_s, double covariance_scale) const;
 
-  // A scan registered with the prior: fuses the predicted position with the
-  // scan's published covariance (6×6, translation first) and returns the
-  // fused one, whose position block is kept for the next scan.
-  Matrix6d fuse(const Matrix6d& scan_covariance);
+  // A scan at t_s registered with the prior: fuses the predicted position
+  // with the scan's published covariance (6×6, translation first) and
+  // returns the fused one, whose position block is kept for the next scan.
+  // A scan covariance that is not finite: as predict_only(), returned as is.
+  Matrix6d fuse(double t_s, const Matrix6d& scan_covariance);
   // A scan registered without the prior: its position covariance as it is
   // (not finite: as predict_only()).
-  void take(const Matrix6d& scan_covariance);
+  void replace_with_scan(double t_s, const Matrix6d& scan_covariance);
   // A scan not registered: the prediction carried the pose.
-  void predict_only();
+  void predict_only(double t_s);
   // A new local map: its first pose defines it.
-  void reset();
+  void reset(double t_s);
 
  private:
   PositionUncertaintyParams params_;
   Eigen::Matrix3d covariance_ = Eigen::Matrix3d::Zero();
+  double updated_at_s_ = -std::numeric_limits<double>::infinity();
 };
 
 }  // namespace tumble

@@ -125,9 +125,12 @@ struct ScanResult {
   // floor alone).
   Matrix6d covariance_published = published_covariance(Matrix6d::Identity());
   double expected_error_m = expected_position_error_m(covariance_published);
-  bool direction_unobserved = false;  // UnobservedDirection: a direction the recent scans have not pinned
+  // UnobservedDirection: a direction the recent scans have not pinned, from
+  // a spell's start until the window holds no weak scan (since_spell()).
+  bool direction_unobserved = false;
   // This scan ended an unobserved spell: the map took points meanwhile at
-  // poses nothing measured along that direction (the daemon starts a new one).
+  // poses nothing measured along that direction. The daemon starts a new
+  // map (reset_map()); the core's Odometry keeps it.
   bool unobserved_spell_ended = false;
   // The expected error of the ICP's covariance as it is, calibrated: what the
   // seen-through gate and the fuser's levelling go by (their thresholds were
@@ -147,6 +150,10 @@ struct ScanResult {
   Degeneracy degeneracy;
   Eigen::Vector3d held_translation_w = Eigen::Vector3d::Zero();  // IcpResult::held_translation_w
   bool prediction_prior = false;  // ICP had the prediction as a prior (PositionUncertainty)
+  // With the prior, a weak scan whose weakest direction is mostly a
+  // translation: the prediction's covariance, not the scan's, is published
+  // along it (the expected error then says how well it is known).
+  bool weak_translation_predicted = false;
   std::size_t points_in = 0;
   std::size_t points_downsampled = 0;
   std::size_t points_registered = 0;  // that entered ICP (registration_voxel_size_m)

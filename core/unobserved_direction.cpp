@@ -35,6 +35,8 @@ bool UnobservedDirection::add(const Degeneracy& degeneracy) {
   if (filled_ == weak_.size() && fraction >= params_.enter_fraction) unobserved_ = true;
   if (fraction < 0.5 * params_.enter_fraction) unobserved_ = false;
   spell_ended_ = was_unobserved && !unobserved_;
+  if (unobserved_) since_spell_ = true;
+  if (weak_count_ == 0) since_spell_ = false;
   return unobserved_;
 }
 

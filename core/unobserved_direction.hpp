@@ -33,7 +33,8 @@ void check_unobserved_direction_params(const UnobservedDirectionParams& params);
 
 // Degeneracy::direction in the covariance's coordinates (rotation in radians).
 Vector6d weakest_direction(const Degeneracy& degeneracy);
-// Adds sigma_m² to a covariance over (tx, ty, tz, rx, ry, rz) along a unit direction of it.
+// Adds sigma_m² to a covariance over (tx, ty, tz, rx, ry, rz) along a
+// direction of it (weakest_direction's: unit in the scaled coordinates).
 void widen_along(Matrix6d& covariance, const Vector6d& direction, double sigma_m);
 
 class UnobservedDirection {
@@ -49,6 +50,9 @@ class UnobservedDirection {
   bool unobserved() const { return unobserved_; }
   // Whether the last add() ended an unobserved spell.
   bool spell_ended() const { return spell_ended_; }
+  // From the start of a spell until the window holds no weak scan again:
+  // a place where the scans have lately left a direction unpinned.
+  bool since_spell() const { return since_spell_; }
 
   // Adds sigma_m² to a published covariance over (tx, ty, tz, rx, ry, rz)
   // along the weakest direction of the newest weak scan (not the scan's own:
@@ -64,6 +68,7 @@ class UnobservedDirection {
   std::size_t weak_count_ = 0;
   bool unobserved_ = false;
   bool spell_ended_ = false;
+  bool since_spell_ = false;
 };
 
 }  // namespace tumble

@@ -397,6 +397,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   for (int i = 0; i < 3; ++i)
     out.held_translation_w[static_cast<std::size_t>(i)] = static_cast<float>(result.held_translation_w[i]);
   out.prediction_prior = result.prediction_prior;
+  out.weak_translation_predicted = result.weak_translation_predicted;
   out.inlier_ratio = static_cast<float>(result.inlier_ratio);
   out.matched_ratio = static_cast<float>(result.matched_ratio);
   out.correction_m = static_cast<float>(result.correction_w.norm());

@@ -87,6 +87,7 @@ struct RegistrationRecord {
   double position_sigma_m = 0.0;  // for the fuser's velocity filter
   std::array<float, 3> held_translation_w{};  // ScanResult::held_translation_w: unmeasured by this scan
   bool prediction_prior = false;              // ScanResult::prediction_prior
+  bool weak_translation_predicted = false;    // ScanResult::weak_translation_predicted
   float inlier_ratio = 0.0f;
   float matched_ratio = 0.0f;      // ICP points with a map match at the last iteration
   float correction_m = 0.0f;       // ICP's pose from the IMU-propagated one, at the scan start

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include <random>
 
 #include "core/voxel_grid.hpp"
@@ -268,6 +270,15 @@ TEST(Icp, APriorKeepsACorridorsAxisNearThePredictionAndLeavesThePinnedDirections
   // Without it, x goes where the edges' normals say.
   const IcpResult free = icp.align(f.reading, f.map, guess);
   EXPECT_GT(std::abs(free.T_wl.translation().x() - guess.translation().x()), 0.02);
+}
+
+TEST(Icp, APriorThatIsNotFiniteIsNoPrior) {
+  RoomFixture f(false);
+  const Eigen::Isometry3d guess = offset_guess(f.truth);
+  const IcpResult paper = Icp().align(f.reading, f.map, guess);
+  const IcpResult broken = Icp().align(f.reading, f.map, guess, true,
+                                       Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  EXPECT_TRUE(broken.T_wl.isApprox(paper.T_wl, 0.0));
 }
 
 TEST(Icp, APriorBarelyMovesAPoseTheScanPins) {

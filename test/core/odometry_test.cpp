@@ -191,8 +191,9 @@ TEST(Odometry, AWeakScanHoldsTheCorridorsAxisUntilTheDirectionIsDeclaredUnobserv
 TEST(Odometry, ThePredictionIsThePriorUntilTheDirectionIsDeclaredUnobservedAndBoundsTheWeakAxis) {
   // The corridor again, with the prediction as ICP's prior (as tumbled's
   // config sets it): every scan on the map has it until the window declares
-  // x unobserved; the published covariance along x is then the scan's own,
-  // widened, and before that the prediction's, growing scan by scan.
+  // x unobserved; the published covariance along x is the prediction's,
+  // growing scan by scan, and from the scan that declares it on the scan's
+  // own, widened.
   OdometryParams params = test_params(true);
   params.unobserved.window_scans = 5;
   params.unobserved.weak_min_eigenvalue = 0.003;
@@ -209,13 +210,18 @@ TEST(Odometry, ThePredictionIsThePriorUntilTheDirectionIsDeclaredUnobservedAndBo
     ++on_map;
     const double var_x = r.covariance_published(0, 0);
     if (on_map <= params.unobserved.window_scans) {
-      EXPECT_TRUE(r.prediction_prior) << r.scan_index;
-      EXPECT_LE(var_x, 2 * 0.02 * 0.02 * on_map) << r.scan_index;  // the prediction's, at most
-      EXPECT_GT(var_x, previous_var_x) << r.scan_index;             // and growing: x is never pinned
-      previous_var_x = var_x;
+      EXPECT_TRUE(r.prediction_prior) << r.scan_index;  // ICP runs before its scan enters the window
       ++with_prior;
     } else {
       EXPECT_FALSE(r.prediction_prior) << r.scan_index;
+    }
+    if (on_map < params.unobserved.window_scans) {
+      EXPECT_TRUE(r.weak_translation_predicted) << r.scan_index;
+      EXPECT_LE(var_x, 2 * 0.02 * 0.02 * on_map) << r.scan_index;  // the prediction's, at most
+      EXPECT_GT(var_x, previous_var_x) << r.scan_index;             // and growing: x is never pinned
+      previous_var_x = var_x;
+    } else {
+      EXPECT_TRUE(r.direction_unobserved) << r.scan_index;
       EXPECT_GT(std::sqrt(var_x), 0.5) << r.scan_index;  // unobserved: widened by sigma_m (1 m)
     }
   }

@@ -10,6 +10,11 @@ namespace tumble {
 namespace {
 
 constexpr double kSigma = 0.02;
+constexpr double kVar = kSigma * kSigma;
+
+PositionUncertainty uncertainty() {
+  return PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = kSigma, .scan_interval_s = 0.1});
+}
 
 // A scan that pins y and z to 1 mm and says `along_x_m` along x.
 Matrix6d scan_covariance(double along_x_m) {
@@ -19,52 +24,72 @@ Matrix6d scan_covariance(double along_x_m) {
 }
 
 TEST(PositionUncertainty, GrowsByThePredictionEachScanThatPinsNothingAndShrinksWhereAScanPins) {
-  PositionUncertainty position(PositionUncertaintyParams{.prediction_sigma_m = kSigma});
-  EXPECT_TRUE(position.predicted().isApprox(Eigen::Matrix3d::Identity() * kSigma * kSigma));
+  PositionUncertainty position = uncertainty();
+  position.reset(0.0);
+  EXPECT_TRUE(position.predicted(0.1).isApprox(Eigen::Matrix3d::Identity() * kVar));
 
   // Along x the scan says 1 m: the prediction decides there, the scan in y and z.
-  const Matrix6d fused = position.fuse(scan_covariance(1.0));
-  EXPECT_NEAR(fused(0, 0), 1.0 / (1.0 / (kSigma * kSigma) + 1.0), 1e-9);
-  EXPECT_NEAR(fused(1, 1), 1.0 / (1.0 / (kSigma * kSigma) + 1e6), 1e-12);
+  const Matrix6d fused = position.fuse(0.1, scan_covariance(1.0));
+  EXPECT_NEAR(fused(0, 0), 1.0 / (1.0 / kVar + 1.0), 1e-12);
+  EXPECT_NEAR(fused(1, 1), 1.0 / (1.0 / kVar + 1e6), 1e-12);
   EXPECT_DOUBLE_EQ(fused(3, 3), 1e-6);  // the rotation is the scan's
   // The next scan's prediction adds an interval's error to what this one knew.
-  EXPECT_NEAR(position.predicted()(0, 0), fused(0, 0) + kSigma * kSigma, 1e-12);
+  EXPECT_NEAR(position.predicted(0.2)(0, 0), fused(0, 0) + kVar, 1e-12);
 
-  // Scans that say nothing along x: the uncertainty there grows about
-  // linearly, as a random walk of the prediction's errors.
-  for (int i = 0; i < 8; ++i) position.fuse(scan_covariance(1e3));
-  EXPECT_GT(std::sqrt(position.predicted()(0, 0)), 2.9 * kSigma);
+  // Scans that say nothing along x: the uncertainty there grows as a
+  // random walk of the prediction's errors, whatever they claim.
+  double t = 0.1;
+  for (int i = 0; i < 8; ++i) position.fuse(t += 0.1, scan_covariance(1e9));
+  EXPECT_NEAR(position.predicted(t + 0.1)(0, 0), 10 * kVar, 1e-3 * kVar);
   // One that pins x brings it back.
-  position.fuse(scan_covariance(0.001));
-  EXPECT_LT(std::sqrt(position.predicted()(0, 0)), 1.1 * kSigma);
+  position.fuse(t += 0.1, scan_covariance(0.001));
+  EXPECT_LT(std::sqrt(position.predicted(t + 0.1)(0, 0)), 1.1 * kSigma);
 }
 
-TEST(PositionUncertainty, AScanNotRegisteredAddsThePredictionAndANewMapStartsFromNothing) {
-  PositionUncertainty position(PositionUncertaintyParams{.prediction_sigma_m = kSigma});
-  position.predict_only();
-  position.predict_only();
-  EXPECT_NEAR(position.predicted()(2, 2), 3 * kSigma * kSigma, 1e-12);
-  position.take(Matrix6d::Identity() * std::numeric_limits<double>::infinity());  // no finite covariance: as not registered
-  EXPECT_NEAR(position.predicted()(2, 2), 4 * kSigma * kSigma, 1e-12);
-  position.take(scan_covariance(0.5));  // registered without the prior: the scan's own
-  EXPECT_NEAR(position.predicted()(0, 0), 0.25 + kSigma * kSigma, 1e-12);
-  position.reset();
-  EXPECT_TRUE(position.predicted().isApprox(Eigen::Matrix3d::Identity() * kSigma * kSigma));
+TEST(PositionUncertainty, AGapGrowsThePredictionWithItsLengthAndAScanNotRegisteredAddsIt) {
+  PositionUncertainty position = uncertainty();
+  position.reset(1.0);
+  // Half a second without a scan: a velocity error carries on, 5 intervals' σ.
+  EXPECT_NEAR(position.predicted(1.5)(2, 2), 25 * kVar, 1e-12);
+  position.predict_only(1.1);
+  position.predict_only(1.2);
+  EXPECT_NEAR(position.predicted(1.3)(2, 2), 3 * kVar, 1e-12);
+  position.replace_with_scan(1.3, Matrix6d::Identity() * std::numeric_limits<double>::infinity());  // as not registered
+  EXPECT_NEAR(position.predicted(1.4)(2, 2), 4 * kVar, 1e-12);
+  position.replace_with_scan(1.4, scan_covariance(0.5));  // registered without the prior: the scan's own
+  EXPECT_NEAR(position.predicted(1.5)(0, 0), 0.25 + kVar, 1e-12);
+  position.reset(1.5);
+  EXPECT_TRUE(position.predicted(1.6).isApprox(Eigen::Matrix3d::Identity() * kVar));
+  EXPECT_DOUBLE_EQ(position.updated_at_s(), 1.5);
+}
+
+TEST(PositionUncertainty, AScanCovarianceThatIsNotFiniteIsNotFusedAndLeavesNoNaN) {
+  PositionUncertainty position = uncertainty();
+  position.reset(0.0);
+  Matrix6d broken = scan_covariance(0.1);
+  broken(0, 0) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(position.fuse(0.1, broken)(0, 0)));  // returned as it is ...
+  EXPECT_TRUE(position.predicted(0.2).allFinite());            // ... and not kept
+  EXPECT_NEAR(position.predicted(0.2)(0, 0), 2 * kVar, 1e-12);
+  EXPECT_TRUE(position.prior_information(0.2, 3.2).allFinite());
 }
 
 TEST(PositionUncertainty, ThePriorInformationIsInTheUnitsOfTheUncalibratedCovariance) {
-  PositionUncertainty position(PositionUncertaintyParams{.prediction_sigma_m = kSigma});
+  PositionUncertainty position = uncertainty();
+  position.reset(0.0);
   // κ = 2: the ICP's own covariance is a quarter of the calibrated one, so
   // the prior weighs 4× in its units.
-  EXPECT_TRUE(position.prior_information(2.0).isApprox(Eigen::Matrix3d::Identity() * 4.0 / (kSigma * kSigma)));
+  EXPECT_TRUE(position.prior_information(0.1, 2.0).isApprox(Eigen::Matrix3d::Identity() * 4.0 / kVar));
   PositionUncertainty off(PositionUncertaintyParams{});
   EXPECT_FALSE(off.enabled());
-  EXPECT_TRUE(off.prior_information(3.2).isZero());
+  EXPECT_TRUE(off.prior_information(0.1, 3.2).isZero());
 }
 
-TEST(PositionUncertainty, RejectsANegativeOrNonFiniteSigma) {
+TEST(PositionUncertainty, RejectsANegativeOrNonFiniteSigmaOrInterval) {
   EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = -0.01}), std::invalid_argument);
   EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = std::nan("")}),
+               std::invalid_argument);
+  EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = 0.02, .scan_interval_s = 0}),
                std::invalid_argument);
 }
 

@@ -40,6 +40,26 @@ TEST(UnobservedDirection, SaysWhichScanEndedASpell) {
   EXPECT_FALSE(tracker.spell_ended());  // once only
 }
 
+TEST(UnobservedDirection, ASpellLastsUntilTheWindowHoldsNoWeakScan) {
+  UnobservedDirection tracker(params());
+  const Degeneracy weak = weakest(0.001), strong = weakest(0.01);
+  for (int i = 0; i < 8; ++i) tracker.add(weak);
+  EXPECT_FALSE(tracker.since_spell());  // 8 of 10 weak: no spell yet
+  tracker.add(weak);
+  tracker.add(weak);
+  ASSERT_TRUE(tracker.unobserved());
+  EXPECT_TRUE(tracker.since_spell());
+  // The spell ends at the 6th strong scan; the weak scans left in the window
+  // keep since_spell until the 10th.
+  for (int i = 1; i <= 10; ++i) {
+    tracker.add(strong);
+    EXPECT_EQ(tracker.since_spell(), i < 10) << i;
+  }
+  // A weak scan now is one weak scan, not a spell.
+  tracker.add(weak);
+  EXPECT_FALSE(tracker.since_spell());
+}
+
 TEST(UnobservedDirection, AFullWindowAtTheBarMarksItAndFewerThanHalfTheBarClearsIt) {
   UnobservedDirection tracker(params());
   const Degeneracy weak = weakest(0.001), strong = weakest(0.01);

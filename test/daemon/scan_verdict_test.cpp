@@ -21,8 +21,11 @@ TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
   r.degeneracy = 0.0005f;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
-  // Held by the prediction: its expected error says how well, and judges it.
+  // The prediction was the prior, but the weak direction is a rotation: still poor.
   r.prediction_prior = true;
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
+  // A weak translation the prediction carried: its expected error says how well, and judges it.
+  r.weak_translation_predicted = true;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
   r.expected_error_m = 0.05f;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::WeaklyConstrained);
