@@ -258,9 +258,10 @@ TEST(Icp, APriorKeepsACorridorsAxisNearThePredictionAndLeavesThePinnedDirections
   const Eigen::Isometry3d guess =
       test::make_pose(f.truth.translation() + Eigen::Vector3d(0.2, 0.05, 0.0), 0, 1 * kDeg, 0.3 + 1 * kDeg);
   // The noise-free corridor still pins its axis to millimetres (its edges'
-  // normals lean along it), so the prior is a millimetre: it decides x, the
-  // walls and floor decide y, z and the rotation.
-  const Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / (0.001 * 0.001);
+  // normals lean along it), so the prior is a millimetre along x alone: it
+  // decides x, the walls and floor decide y, z and the rotation.
+  Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
+  information(0, 0) = 1.0 / (0.001 * 0.001);
   const IcpResult r = icp.align(f.reading, f.map, guess, true, information);
   EXPECT_NEAR(r.T_wl.translation().x(), guess.translation().x(), 0.002);
   EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
@@ -287,7 +288,7 @@ TEST(Icp, APriorBarelyMovesAPoseTheScanPins) {
   const IcpResult paper = Icp().align(f.reading, f.map, guess);
   const IcpResult with_prior =
       Icp().align(f.reading, f.map, guess, true, Eigen::Matrix3d::Identity() / (0.02 * 0.02));
-  EXPECT_LT((with_prior.T_wl.translation() - paper.T_wl.translation()).norm(), 1e-3);
+  EXPECT_LT((with_prior.T_wl.translation() - paper.T_wl.translation()).norm(), test::full_or_coarse(1e-3, 5e-3));
   EXPECT_LT((with_prior.T_wl.translation() - f.truth.translation()).norm(), test::full_or_coarse(0.005, 0.02));
 }
 
