@@ -31,10 +31,9 @@ Vector6d step_holding_translation(const Matrix6d& H, const Vector6d& g, const Ei
   return kkt.fullPivLu().solve(rhs).head<6>();
 }
 
-// The Gauss-Newton step minimising ½xᵀHx + gᵀx, with no component along
-// H's numerically zero eigenvalues (kPseudoInverseCutoff).
-Vector6d minimum_norm_step(const Matrix6d& H, const Vector6d& g) {
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> eigen(H);
+// The Gauss-Newton step minimising ½xᵀHx + gᵀx, from H's eigen-decomposition,
+// with no component along its numerically zero eigenvalues (kPseudoInverseCutoff).
+Vector6d minimum_norm_step(const Eigen::SelfAdjointEigenSolver<Matrix6d>& eigen, const Vector6d& g) {
   const Vector6d lambda = eigen.eigenvalues();
   Vector6d step = Vector6d::Zero();
   for (int e = 0; e < 6; ++e) {
@@ -325,12 +324,10 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     eigen.compute(H);
     const Vector6d lambda = eigen.eigenvalues();
     const double cutoff = lambda(5) * kPseudoInverseCutoff;
-    Vector6d pseudo_inverse_step = Vector6d::Zero();
     Matrix6d H_inv = Matrix6d::Zero();
     for (int e = 0; e < 6; ++e) {
       const Vector6d v = eigen.eigenvectors().col(e);
       const double l = std::max(lambda(e), cutoff);
-      if (lambda(e) > cutoff) pseudo_inverse_step -= v * (v.dot(g) / l);
       H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
     }
     // The prior in the normal matrix's units: it holds the covariance s²·H⁻¹
@@ -342,13 +339,14 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       H_step.topLeftCorner<3, 3>() += residual_variance * prior_information_w;
       g_step.head<3>() += residual_variance * prior_information_w * (t - initial_T_wl.translation());
     }
-    const Eigen::Vector3d weakest_translation = eigen.eigenvectors().col(0).head<3>();
+    const Vector6d weakest = eigen.eigenvectors().col(0);
     const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
-                      weakest_translation.norm() > kMinHeldTranslationNorm;
-    result.held_translation_w = hold ? weakest_translation.normalized() : Eigen::Vector3d::Zero();
-    const Vector6d step_scaled = hold        ? step_holding_translation(H_step, g_step, result.held_translation_w)
-                                 : prior_now ? minimum_norm_step(H_step, g_step)
-                                             : pseudo_inverse_step;
+                      mostly_translation(weakest);
+    result.held_translation_w = hold ? Eigen::Vector3d(weakest.head<3>().normalized()) : Eigen::Vector3d::Zero();
+    const Vector6d step_scaled =
+        hold        ? step_holding_translation(H_step, g_step, result.held_translation_w)
+        : prior_now ? minimum_norm_step(Eigen::SelfAdjointEigenSolver<Matrix6d>(H_step), g_step)
+                    : minimum_norm_step(eigen, g);
     have_system = true;
     // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
     Vector6d unscale;

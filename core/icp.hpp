@@ -102,11 +102,12 @@ struct Degeneracy {
   double residual_variance_per_weight = 0;
 };
 
-// A weakest direction is held (IcpParams::hold_weak_translation_share), or
-// taken from the prediction (position_uncertainty.hpp), when it is mostly a
-// translation: the norm of its translation part above this (the whole
-// eigenvector is unit, in the scaled coordinates).
-inline constexpr double kMinHeldTranslationNorm = 0.5;
+// Whether a unit direction of the normal matrix (scaled coordinates, like
+// Degeneracy::direction) is mostly a translation: its translation part's
+// norm above 0.5. Such a weakest direction is held
+// (IcpParams::hold_weak_translation_share), or taken from the prediction
+// (position_uncertainty.hpp).
+inline bool mostly_translation(const Vector6d& direction) { return direction.head<3>().norm() > 0.5; }
 
 struct IcpResult {
   Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();

@@ -25,7 +25,8 @@ Eigen::Matrix3d PositionUncertainty::predicted(double t_s) const {
   // At least one interval (the first scan, scans closer than the period);
   // a longer gap's velocity error grows the position error linearly, its
   // variance quadratically.
-  const double intervals = std::isfinite(updated_at_s_) ? std::max((t_s - updated_at_s_) / params_.scan_interval_s, 1.0) : 1.0;
+  const double intervals =
+      std::isfinite(updated_at_s_) ? std::max((t_s - updated_at_s_) / params_.scan_interval_s, 1.0) : 1.0;
   const double sigma_m = params_.prediction_sigma_m * intervals;
   return covariance_ + sigma_m * sigma_m * Eigen::Matrix3d::Identity();
 }

@@ -258,9 +258,9 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     // instead, bench2's long-08 published 165 scans as good that had slid
     // over 20 cm in 10 scans along the corridor, where the prediction drifted.
     Matrix6d measured = result.covariance_published;
-    if (result.degeneracy.min_eigenvalue < params_.unobserved.weak_min_eigenvalue) {
+    if (unobserved_direction_.weak(result.degeneracy)) {
       widen_along(measured, weakest_direction(result.degeneracy), params_.unobserved.sigma_m);
-      result.weak_translation_predicted = result.degeneracy.direction.head<3>().norm() > kMinHeldTranslationNorm;
+      result.weak_translation_predicted = mostly_translation(result.degeneracy.direction);
     }
     result.covariance_published = position_uncertainty_.fuse(t_start, measured);
   } else {

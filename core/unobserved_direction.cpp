@@ -19,7 +19,7 @@ UnobservedDirection::UnobservedDirection(const UnobservedDirectionParams& params
 }
 
 bool UnobservedDirection::add(const Degeneracy& degeneracy) {
-  const bool weak = degeneracy.min_eigenvalue < params_.weak_min_eigenvalue;
+  const bool weak = this->weak(degeneracy);
   if (filled_ == weak_.size()) {
     weak_count_ -= weak_[next_] ? 1 : 0;
   } else {

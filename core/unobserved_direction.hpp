@@ -48,6 +48,8 @@ class UnobservedDirection {
   bool add(const Degeneracy& degeneracy);
   // What the last add() returned (false before any).
   bool unobserved() const { return unobserved_; }
+  // Whether a scan counts as weak here (weak_min_eigenvalue).
+  bool weak(const Degeneracy& degeneracy) const { return degeneracy.min_eigenvalue < params_.weak_min_eigenvalue; }
   // Whether the last add() ended an unobserved spell.
   bool spell_ended() const { return spell_ended_; }
   // From the start of a spell until the window holds no weak scan again:
