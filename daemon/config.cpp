@@ -183,6 +183,8 @@ void visit_config(Visitor& v, Config& c) {
       v.field("lidar_silent_to_lost_s", h.lidar_silent_to_lost_s, Range{0.1, 600.0});
       v.field("good_scans_to_recover", h.good_scans_to_recover, IntRange{1, 1000});
       v.field("min_matched_ratio", h.min_matched_ratio, Range{0.0, 1.0});
+      v.field("min_matched_ratio_spin_clipped", h.min_matched_ratio_spin_clipped, Range{0.0, 1.0});
+      v.field("spin_clipped_scans_to_settle", h.spin_clipped_scans_to_settle, IntRange{0, 1000});
       v.field("min_degeneracy", h.min_degeneracy, Range{0.0, 1.0});
       v.field("max_expected_error_m", h.max_expected_error_m, Range{0.001, 10.0});
     });

@@ -144,8 +144,10 @@ struct HealthConfig {
   double degraded_to_lost_s = 3.0;
   double lidar_silent_to_lost_s = 1.0;
   int good_scans_to_recover = 5;
-  double min_matched_ratio = 0.3;
-  double min_degeneracy = 0.001;
+  double min_matched_ratio = 0.25;
+  double min_matched_ratio_spin_clipped = 0.3;
+  int spin_clipped_scans_to_settle = 3;
+  double min_degeneracy = 0.0005;
   double max_expected_error_m = 0.04;
   bool operator==(const HealthConfig&) const = default;
 };

@@ -264,6 +264,8 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // A bridged scan is de-skewed with the registrations' prediction, not the gyro.
   const std::uint8_t clipped_axes = out.imu_bridged ? 0 : gyro_clipped_axes(trajectory, out.t_s, t_end_s);
   out.spin_rate_unmeasured = (clipped_axes & kLidarZ) != 0;
+  spin_clipped_scans_in_row_ = out.spin_rate_unmeasured ? spin_clipped_scans_in_row_ + 1 : 0;
+  out.spin_clipped_scans_in_row = spin_clipped_scans_in_row_;
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
   const double lidar_silent_s = out.t_s - previous_scan_end_s_;
   previous_scan_start_s_ = out.t_s;

@@ -70,9 +70,11 @@ class CoreFuserStage : public FuserStage {
 //   published.
 // - Gyro clipped about the lidar's spin axis during the scan: the scan is
 //   registered as usual (the fuser takes that rate from the registrations,
-//   core/imu_fuser.hpp 6), but flagged `spin_rate_unmeasured`, and the
-//   health machine reports degraded: that rotation is the registration's
-//   alone, and it hardly observes it.
+//   core/imu_fuser.hpp 6), but flagged `spin_rate_unmeasured`: that
+//   rotation is the registration's alone. The health machine reports
+//   degraded for the first scans of such a spell, and for one that matched
+//   little of the map (daemon.health.spin_clipped_scans_to_settle,
+//   min_matched_ratio_spin_clipped; scan_verdict.cpp).
 
 class CoreRegistrationStage : public RegistrationStage {
  public:
@@ -122,6 +124,7 @@ class CoreRegistrationStage : public RegistrationStage {
   double lidar_silent_to_reset_s_;
   double previous_scan_start_s_ = -1e300;
   double previous_scan_end_s_ = -1e300;
+  std::int32_t spin_clipped_scans_in_row_ = 0;
   int scans_to_check_ = 0;            // after a lidar gap
   int scans_lost_in_a_row_ = 0;
   bool registered_on_a_map_ = false;  // since then the fuser has a lidar rate for clipped axes

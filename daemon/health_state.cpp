@@ -22,7 +22,8 @@ namespace {
 
 constexpr std::string_view kLidarSilent = "no lidar data for too long: the pose is the IMU's alone";
 constexpr std::string_view kSpinRateUnmeasured =
-    "gyro clipped about the lidar's spin axis: that rotation is the registration's alone";
+    "gyro clipped about the lidar's spin axis: the spin is new, or the scan matched too little of the map to carry "
+    "that rotation";
 
 constexpr std::string_view kMapDeferred =
     "no local map yet: the gyro is clipped, and the first map starts only from a scan it measured whole";

@@ -22,7 +22,8 @@
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
-// the gyro not clipped about the lidar's spin axis, no direction unobserved
+// where the gyro was clipped about the lidar's spin axis past the spin's first spin_clipped_scans_to_settle scans
+// and matched ratio >= min_matched_ratio_spin_clipped, no direction unobserved
 // (core/unobserved_direction.hpp), and the expected error of the registered
 // pose within daemon.health.max_expected_error_m (a bad scan for any of these
 // three reasons is reported as such).
@@ -41,7 +42,7 @@ enum class ScanVerdict : std::int8_t {
   PoorRegistration = 1,    // not registered, not used, not converged, too few matches or degenerate
   WeaklyConstrained = 2,   // expected error above daemon.health.max_expected_error_m
   DirectionUnobserved = 3, // a direction the recent scans have not pinned (a corridor's axis)
-  SpinRateUnmeasured = 4,  // gyro clipped about the lidar's spin axis
+  SpinRateUnmeasured = 4,  // gyro clipped about the lidar's spin axis: a new spin, or matched too little
   MapDeferred = 5,         // no local map, and the gyro clipped: waiting for a scan that can start one
 };
 

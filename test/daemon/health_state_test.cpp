@@ -76,7 +76,9 @@ TEST(HealthState, AGyroClippedAboutTheSpinAxisDegradesWithThatReason) {
   in.worst_scan_in_period = ScanVerdict::SpinRateUnmeasured;
   const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
   EXPECT_EQ(t.state, S::Degraded);
-  EXPECT_EQ(t.reason, "gyro clipped about the lidar's spin axis: that rotation is the registration's alone");
+  EXPECT_EQ(t.reason,
+            "gyro clipped about the lidar's spin axis: the spin is new, or the scan matched too little of the map to "
+            "carry that rotation");
   in.consecutive_good_scans = 0;
   HealthTransition still = next_health_state(S::Degraded, 1.0, in, {});
   EXPECT_EQ(still.state, S::Degraded);

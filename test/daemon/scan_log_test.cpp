@@ -37,6 +37,8 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
     log.on_registration(good_scan_record(0));
     RegistrationRecord spin = good_scan_record(1);
     spin.spin_rate_unmeasured = true;
+    spin.spin_clipped_scans_in_row = 4;
+    spin.matched_ratio = 0.27f;  // enough for a measured spin, not a clipped one
     spin.held_translation_w = {0.0f, -1.0f, 0.0f};
     log.on_registration(spin);
     RegistrationRecord loose = good_scan_record(2);

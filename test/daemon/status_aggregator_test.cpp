@@ -277,20 +277,35 @@ TEST_F(StatusAggregatorTest, OnSensorTimeTheTicksDecideNotTheClocks) {
   EXPECT_NE(log_.str().find("warning state tracking -> degraded: no IMU data"), std::string::npos) << log_.str();
 }
 
-TEST_F(StatusAggregatorTest, ScansWithTheSpinRateUnmeasuredDegradeAndAreCounted) {
-  const auto scan = [this](bool spin_rate_unmeasured) {
+TEST_F(StatusAggregatorTest, ClippedSpinScansDegradeWhileNewOrMatchingLittleAndEveryClippedScanIsCounted) {
+  std::int32_t clipped_in_row = 0;
+  const auto scan = [&](bool spin_rate_unmeasured, float matched_ratio = 0.6f) {
     RegistrationRecord r = registered_scan(true);
     r.spin_rate_unmeasured = spin_rate_unmeasured;
+    clipped_in_row = spin_rate_unmeasured ? clipped_in_row + 1 : 0;
+    r.spin_clipped_scans_in_row = clipped_in_row;
+    r.matched_ratio = matched_ratio;
     reports_.push(r);
   };
   scan(false);
   evaluate_next_tick();
   evaluate_next_tick();
   ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
-  scan(true);  // converged, full inliers: good by every other test
+  scan(true);  // a new spin: the fuser's rate for it still lags
   evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
-  EXPECT_NE(log_.str().find("tracking -> degraded: gyro clipped about the lidar's spin axis"), std::string::npos)
+  EXPECT_NE(log_.str().find("tracking -> degraded: gyro clipped about the lidar's spin axis: the spin is new"),
+            std::string::npos)
+      << log_.str();
+  for (int i = 0; i < 7; ++i) scan(true);  // settled, matched as a measured scan does: good, and recovered
+  evaluate_next_tick();
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  scan(true, 0.27f);  // converged, and good by every other test: matched enough for a measured spin, not a clipped one
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("degraded: gyro clipped about the lidar's spin axis: the spin is new, or the scan matched "
+                            "too little"),
+            std::string::npos)
       << log_.str();
   for (int i = 0; i < 4; ++i) scan(false);
   evaluate_next_tick();
@@ -433,7 +448,7 @@ TEST_F(StatusAggregatorTest, AScanThatFoundTooFewMapPointsIsNotGood) {
   evaluate_next_tick();
   ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
   RegistrationRecord little_overlap = registered_scan(true);
-  little_overlap.matched_ratio = 0.29f;  // under daemon.health.min_matched_ratio (0.3)
+  little_overlap.matched_ratio = 0.24f;  // under daemon.health.min_matched_ratio (0.25)
   reports_.push(little_overlap);
   evaluate_next_tick();
   EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
