@@ -58,10 +58,17 @@ class CellOccupancy {
   std::vector<std::uint16_t> counts_;  // a bucket would need 65536 cells to wrap
 };
 
+// floor(x) as an int, for |x| < 2^31: the same value as std::floor, which
+// baseline x86-64 (no SSE4.1 round) calls out of line; the cells of every
+// grid here come through it (a third of the down-sampling's time).
+inline std::int32_t floor_to_int(double x) {
+  const auto truncated = static_cast<std::int32_t>(x);
+  return truncated - (x < static_cast<double>(truncated) ? 1 : 0);
+}
+
 inline CellKey cell_of(const Eigen::Vector3d& p, double inv_cell_size) {
-  return CellKey{static_cast<std::int32_t>(std::floor(p.x() * inv_cell_size)),
-                 static_cast<std::int32_t>(std::floor(p.y() * inv_cell_size)),
-                 static_cast<std::int32_t>(std::floor(p.z() * inv_cell_size))};
+  return CellKey{floor_to_int(p.x() * inv_cell_size), floor_to_int(p.y() * inv_cell_size),
+                 floor_to_int(p.z() * inv_cell_size)};
 }
 
 // Whether a search returns its neighbours nearest first or in any order. A

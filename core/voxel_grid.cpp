@@ -1,5 +1,6 @@
 #include "core/voxel_grid.hpp"
 
+#include <algorithm>
 #include <array>
 #include <stdexcept>
 #include <string>
@@ -16,9 +17,26 @@ VoxelDownsampler::VoxelDownsampler(double voxel_size_m) : voxel_size_m_(voxel_si
     throw std::invalid_argument("voxel_size_m must be > 0, got " + std::to_string(voxel_size_m));
 }
 
+VoxelDownsampler::Found VoxelDownsampler::find_or_add(const CellKey& key) {
+  for (std::size_t at = CellKeyHash{}(key) & table_mask_;; at = (at + 1) & table_mask_) {
+    const std::uint32_t slot = table_[at];
+    if (slot == kNoSlot) {
+      table_[at] = static_cast<std::uint32_t>(slot_keys_.size());
+      slot_keys_.push_back(key);
+      return {table_[at], true};
+    }
+    if (slot_keys_[slot] == key) return {slot, false};
+  }
+}
+
 void VoxelDownsampler::select(std::span<const Eigen::Vector3d> points, std::vector<std::uint32_t>& indices) {
   const double inv = 1.0 / voxel_size_m_;
-  cell_slot_.clear();
+  std::size_t capacity = 64;
+  while (capacity < 2 * points.size()) capacity *= 2;
+  if (table_.size() < capacity) table_.resize(capacity);
+  table_mask_ = capacity - 1;
+  std::fill(table_.begin(), table_.begin() + static_cast<std::ptrdiff_t>(capacity), kNoSlot);
+  slot_keys_.clear();
   indices.clear();
   best_distance_sq_.clear();
   // The cell of point i − kRecentPeriod, checked before the hash map: in a
@@ -38,8 +56,8 @@ void VoxelDownsampler::select(std::span<const Eigen::Vector3d> points, std::vect
     if (recent_slot != kNoSlot && recent_key == key) {
       slot = recent_slot;
     } else {
-      const auto [it, inserted] = cell_slot_.try_emplace(key, static_cast<std::uint32_t>(indices.size()));
-      slot = it->second;
+      const auto [found_slot, inserted] = find_or_add(key);
+      slot = found_slot;
       recent_key = key;
       recent_slot = slot;
       if (inserted) {

@@ -3,8 +3,6 @@
 // sigmas, weight) so the weight models still see the original point.
 #pragma once
 
-#include <tsl/robin_map.h>
-
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -30,8 +28,21 @@ class VoxelDownsampler {
   double voxel_size_m() const { return voxel_size_m_; }
 
  private:
+  // The slot of `key` in the call's cell table, a new one (the next slot) if
+  // it has none. The table is open-addressed (linear probing), sized to at
+  // least twice the points so probes stay short, holds only slot numbers (a
+  // 28.8 k-point scan's table stays in L2; the keys are per slot), and is
+  // cleared per call by one fill.
+  struct Found {
+    std::uint32_t slot;
+    bool inserted;
+  };
+  Found find_or_add(const CellKey& key);
+
   double voxel_size_m_;
-  tsl::robin_map<CellKey, std::uint32_t, CellKeyHash> cell_slot_;
+  std::vector<std::uint32_t> table_;  // kNoSlot: empty
+  std::size_t table_mask_ = 0;
+  std::vector<CellKey> slot_keys_;
   std::vector<std::uint32_t> best_index_;  // per slot: index in `in`
   std::vector<double> best_distance_sq_;   // per slot: its distance to the centre
 };

@@ -60,6 +60,13 @@ TEST(VoxelDownsampler, DeterministicAndReusable) {
   grid.apply(in, b);
   ASSERT_EQ(a.size(), b.size());
   for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.points[i], b.points[i]);
+  // A grid whose cell table first served one point grows it for many.
+  VoxelDownsampler grown(0.5);
+  PointCloud c;
+  grown.apply(numbered_cloud_of({{0, 0, 0}}), c);
+  grown.apply(in, c);
+  ASSERT_EQ(a.size(), c.size());
+  for (std::size_t i = 0; i < a.size(); ++i) EXPECT_EQ(a.points[i], c.points[i]);
   // Every output point is the nearest to its cell's centre among the input.
   for (std::size_t i = 0; i < a.size(); ++i) {
     const Eigen::Vector3d cell = (a.points[i] / 0.5).array().floor();
