@@ -58,7 +58,7 @@ class CellOccupancy {
   std::vector<std::uint16_t> counts_;  // a bucket would need 65536 cells to wrap
 };
 
-// floor(x) as an int, for |x| < 2^31: the same value as std::floor, which
+// floor(x) as an int, for -2^31 <= x < 2^31: the same value as std::floor, which
 // baseline x86-64 (no SSE4.1 round) calls out of line; the cells of every
 // grid here come through it (a third of the down-sampling's time).
 inline std::int32_t floor_to_int(double x) {

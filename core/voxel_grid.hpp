@@ -31,7 +31,7 @@ class VoxelDownsampler {
   // The slot of `key` in the call's cell table, a new one (the next slot) if
   // it has none. The table is open-addressed (linear probing), sized to at
   // least twice the points so probes stay short, holds only slot numbers (a
-  // 28.8 k-point scan's table stays in L2; the keys are per slot), and is
+  // 28.8 k-point scan's table is 256 KiB; the keys are per slot), and is
   // cleared per call by one fill.
   struct Found {
     std::uint32_t slot;
@@ -40,7 +40,7 @@ class VoxelDownsampler {
   Found find_or_add(const CellKey& key);
 
   double voxel_size_m_;
-  std::vector<std::uint32_t> table_;  // kNoSlot: empty
+  std::vector<std::uint32_t> table_;  // a slot number, or all ones where empty
   std::size_t table_mask_ = 0;
   std::vector<CellKey> slot_keys_;
   std::vector<std::uint32_t> best_index_;  // per slot: index in `in`

@@ -264,8 +264,6 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // A bridged scan is de-skewed with the registrations' prediction, not the gyro.
   const std::uint8_t clipped_axes = out.imu_bridged ? 0 : gyro_clipped_axes(trajectory, out.t_s, t_end_s);
   out.spin_rate_unmeasured = (clipped_axes & kLidarZ) != 0;
-  spin_clipped_scans_in_row_ = out.spin_rate_unmeasured ? spin_clipped_scans_in_row_ + 1 : 0;
-  out.spin_clipped_scans_in_row = spin_clipped_scans_in_row_;
   const double lidar_gap_s = out.t_s - previous_scan_start_s_;
   const double lidar_silent_s = out.t_s - previous_scan_end_s_;
   previous_scan_start_s_ = out.t_s;
@@ -278,7 +276,13 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     out.reset_reason = reset_reason_;
   } else if (lidar_gap_s > kLidarGapToCheck_s && newest_pose_) {
     scans_to_check_ = kScansCheckedAfterLidarGap;
+    spin_clipped_scans_in_row_ = 0;
   }
+  // A clipped spin settles on the registrations the fuser took its rate from
+  // during it: the count restarts after a lidar gap, a new map and a scan
+  // not registered (scan_verdict.cpp).
+  spin_clipped_scans_in_row_ = out.spin_rate_unmeasured ? spin_clipped_scans_in_row_ + 1 : 0;
+  out.spin_clipped_scans_in_row = spin_clipped_scans_in_row_;
   if (scans_to_check_ > 0 && !out.imu_bridged) {
     const double since_registered_s = out.t_s - newest_pose_->t_s;
     conditions.max_translation_m = kTranslationSlack_m + kVelocityError_m_s * since_registered_s;
@@ -287,6 +291,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   }
   const Eigen::Isometry3d predicted = motion->pose_at(out.t_s);
   const auto report_unregistered = [&] {
+    spin_clipped_scans_in_row_ = 0;
     result_ = ScanResult{};
     result_.T_wl = predicted;
     result_.t_scan_start_s = out.t_s;
@@ -365,6 +370,7 @@ void CoreRegistrationStage::keep_track(const ScanResult& result) {
     if (result.unobserved_spell_ended) reset_map(TrackingLoss::UnobservedMap);
     return;
   }
+  spin_clipped_scans_in_row_ = 0;
   if (++scans_lost_in_a_row_ < kScansToReset) return;
   reset_map(result.rejected ? TrackingLoss::DisagreesWithImu : TrackingLoss::NotRegistered);
 }
@@ -377,6 +383,7 @@ void CoreRegistrationStage::reset_map(TrackingLoss reason) {
   reset_reason_ = reason;
   scans_lost_in_a_row_ = 0;
   scans_to_check_ = 0;
+  spin_clipped_scans_in_row_ = 0;
 }
 
 void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory,

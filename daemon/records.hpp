@@ -117,7 +117,8 @@ struct RegistrationRecord {
   // The gyro was clipped about the lidar's spin axis during the scan: that rate
   // came from the registrations, which hardly observe it (core_stages.hpp).
   bool spin_rate_unmeasured = false;
-  std::int32_t spin_clipped_scans_in_row = 0;  // this scan and the clipped ones just before it
+  // This scan and the clipped ones registered just before it, since the last lidar gap or new map.
+  std::int32_t spin_clipped_scans_in_row = 0;
   // No scan registered on a map yet, and the gyro clipped during the scan: it
   // cannot start the first map (core_stages.cpp), so it is not registered.
   bool map_deferred = false;

@@ -10,12 +10,12 @@ ScanVerdict scan_verdict(const RegistrationRecord& r, const HealthConfig& health
   // spin-ups: the 2nd and 3rd clipped scans 2-7 cm off, published 0.6 cm).
   // Past that, a wrong rate smears the de-skewed scan, which then finds less
   // of the map: clipped scans matched 0.34-0.55 of their points at 8 rad/s
-  // (runs under 0.2 cm/m), 0.16-0.26 at 10-11 rad/s (runs to 4.3 cm/m)
+  // (runs under 0.2 cm/m), 0.16-0.26 at 10-11 rad/s (runs to 4.3 cm/m; 10th-90th percentiles)
   // (README, "The verdict, recalibrated").
-  if (r.spin_rate_unmeasured &&
-      !(r.registered && r.spin_clipped_scans_in_row > health.spin_clipped_scans_to_settle &&
-        r.matched_ratio >= health.min_matched_ratio_spin_clipped))
-    return ScanVerdict::SpinRateUnmeasured;
+  const bool spin_settled_and_matched = r.registered &&
+                                        r.spin_clipped_scans_in_row > health.spin_clipped_scans_to_settle &&
+                                        r.matched_ratio >= health.min_matched_ratio_spin_clipped;
+  if (r.spin_rate_unmeasured && !spin_settled_and_matched) return ScanVerdict::SpinRateUnmeasured;
   if (r.direction_unobserved) return ScanVerdict::DirectionUnobserved;
   if (weakly_constrained(r, health.max_expected_error_m)) return ScanVerdict::WeaklyConstrained;
   // A weakly pinned direction is a poor registration only where nothing

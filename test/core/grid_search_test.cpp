@@ -3,7 +3,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <limits>
 #include <random>
 
 namespace tumble {
@@ -13,7 +12,7 @@ TEST(GridSearch, CellsAreTheFloorOfTheCoordinatesOnBothSidesOfZeroAndOnTheBounda
   const double next_below_zero = std::nextafter(0.0, -1.0);
   const double next_below_two = std::nextafter(2.0, 0.0);
   for (const double x : {0.0, -0.0, 0.5, -0.5, 1.0, -1.0, 2.0, -2.0, next_below_zero, next_below_two, -next_below_two,
-                         1e6 + 0.25, -1e6 - 0.25, 2147483000.5, -2147483000.5}) {
+                         1e6 + 0.25, -1e6 - 0.25, 2147483647.5, -2147483647.5, -2147483648.0}) {
     EXPECT_EQ(floor_to_int(x), static_cast<std::int32_t>(std::floor(x))) << x;
   }
   std::mt19937 rng(3);

@@ -157,5 +157,15 @@ TEST(CoreRegistrationStage, AfterAScanRegisteredOnAMapANewMapStartsEvenWithTheGy
             (std::vector<Taken>{{false, true, true}, {true, false, false}}));
 }
 
+TEST(CoreRegistrationStage, CountsAClippedSpinsScansInARowAndStartsAgainAfterALidarSilence) {
+  constexpr std::uint8_t kClippedAboutZ = 0b100;  // the RS-16's spin axis
+  std::vector<std::int32_t> in_row;
+  for (const RegistrationRecord& r :
+       take_scans({kWhole, kClippedAboutZ, kClippedAboutZ, kClippedAboutZ, kClippedAboutZ, kWhole, kClippedAboutZ}, 3))
+    in_row.push_back(r.spin_clipped_scans_in_row);
+  // The fourth scan comes after the silence, on a new map: the fuser's rate is a second old.
+  EXPECT_EQ(in_row, (std::vector<std::int32_t>{0, 1, 2, 1, 2, 0, 1}));
+}
+
 }  // namespace
 }  // namespace tumble::daemon

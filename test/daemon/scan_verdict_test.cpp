@@ -19,7 +19,9 @@ TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
   const HealthConfig health;
   RegistrationRecord r = registered_scan();
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
-  r.degeneracy = 0.0004f;  // under daemon.health.min_degeneracy (0.0005)
+  r.degeneracy = 0.0007f;  // over daemon.health.min_degeneracy (0.0005): a rotation this weak still turns right
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
+  r.degeneracy = 0.0004f;  // under it
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
   // The prediction was the prior, but the weak direction is a rotation: still poor.
   r.prediction_prior = true;
@@ -35,7 +37,7 @@ TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
 }
 
-TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedAsMuchAsAMeasuredOneDoes) {
+TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedMoreThanAMeasuredOneMust) {
   const HealthConfig health;
   RegistrationRecord r = registered_scan();
   r.matched_ratio = 0.27f;  // between min_matched_ratio (0.25) and min_matched_ratio_spin_clipped (0.3)

@@ -218,8 +218,9 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
   if (verdict) {
     md += "\nThe verdict row flags a scan wherever tumbled judged it not good (the scan log's good_scan: the "
           "expected error over daemon.health.max_expected_error_m of the run's config, the gyro clipped about the "
-          "spin axis with little of the map matched, a direction unobserved, a poor registration), which degrades it from tracking; scored on the "
-          "same registered scans as the thresholds.\n";
+          "spin axis at a spin's start or with little of the map matched, a direction unobserved, a poor "
+          "registration), which degrades it from tracking; scored on the same registered scans as the "
+          "thresholds.\n";
   } else {
     md += "\nNo verdict row: some scan logs have no good_scan column (written by a tumbled before it).\n";
   }
