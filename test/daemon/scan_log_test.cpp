@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "test/daemon/good_registration.hpp"
 #include "test/temp_dir.hpp"
 #include "tools/eval/scan_log.hpp"
 
@@ -13,14 +14,9 @@ namespace {
 
 // A registered scan the health machine calls good under the default limits.
 RegistrationRecord good_scan_record(std::int64_t index) {
-  RegistrationRecord r;
+  RegistrationRecord r = good_registration();
   r.scan_index = index;
   r.t_s = 100.0 + 0.1 * static_cast<double>(index);
-  r.registered = true;
-  r.converged = true;
-  r.matched_ratio = 0.9f;
-  r.degeneracy = 0.01f;
-  r.expected_error_m = 0.01f;
   r.num_stages = 2;  // as the registration stage reports them: one time per stage name
   r.stage_ms[0] = 1.0f;
   r.stage_ms[1] = 2.0f;

@@ -2,22 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include "test/daemon/good_registration.hpp"
+
 namespace tumble::daemon {
 namespace {
 
-RegistrationRecord registered_scan() {
-  RegistrationRecord r;
-  r.registered = true;
-  r.converged = true;
-  r.matched_ratio = 0.8f;
-  r.degeneracy = 0.01f;
-  r.expected_error_m = 0.01f;
-  return r;
-}
-
 TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
   const HealthConfig health;
-  RegistrationRecord r = registered_scan();
+  RegistrationRecord r = good_registration();
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
   r.degeneracy = 0.0007f;  // over daemon.health.min_degeneracy (0.0005): a rotation this weak still turns right
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
@@ -39,7 +31,7 @@ TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
 
 TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedMoreThanAMeasuredOneMust) {
   const HealthConfig health;
-  RegistrationRecord r = registered_scan();
+  RegistrationRecord r = good_registration();
   r.matched_ratio = 0.27f;  // between min_matched_ratio (0.25) and min_matched_ratio_spin_clipped (0.3)
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
   r.spin_rate_unmeasured = true;
@@ -60,14 +52,14 @@ TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedMoreTha
   r.degeneracy = 0.0004f;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
   // Not registered: the rotation is nobody's.
-  r = registered_scan();
+  r = good_registration();
   r.spin_rate_unmeasured = true;
   r.spin_clipped_scans_in_row = 4;
   r.registered = false;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::SpinRateUnmeasured);
   r.spin_rate_unmeasured = false;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
-  r = registered_scan();
+  r = good_registration();
   r.matched_ratio = 0.2f;
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
 }

@@ -7,6 +7,8 @@
 #include <sstream>
 #include <string>
 
+#include "test/daemon/good_registration.hpp"
+
 namespace tumble::daemon {
 namespace {
 
@@ -49,12 +51,7 @@ class StatusAggregatorTest : public ::testing::Test {
   }
 
   void report_scan(bool good, float icp_ms) {
-    RegistrationRecord r;
-    r.registered = true;
-    r.converged = good;
-    r.inlier_ratio = 0.6f;
-    r.matched_ratio = 0.6f;
-    r.degeneracy = 0.5f;
+    RegistrationRecord r = registered_scan(good);
     r.iterations = 10;
     r.num_stages = 2;
     r.stage_ms = {1.0f, icp_ms};
@@ -63,12 +60,8 @@ class StatusAggregatorTest : public ::testing::Test {
 
   // A registered scan that passes every test but, maybe, convergence.
   static RegistrationRecord registered_scan(bool converged) {
-    RegistrationRecord r;
+    RegistrationRecord r = good_registration();
     r.converged = converged;
-    r.registered = true;
-    r.inlier_ratio = 0.6f;
-    r.matched_ratio = 0.6f;
-    r.degeneracy = 0.5f;
     return r;
   }
 

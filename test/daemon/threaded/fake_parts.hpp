@@ -21,6 +21,7 @@
 
 #include "daemon/pipeline.hpp"
 #include "daemon/seams.hpp"
+#include "test/daemon/good_registration.hpp"
 #include "tumble/scan_t.hpp"
 
 namespace tumble::daemon::fake {
@@ -227,18 +228,13 @@ class FakeRegistration : public RegistrationStage {
   void register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,
                           tumble::scan_t* viewer) override {
     if (on_register) on_register();
-    out = RegistrationRecord{};
+    out = good_registration();
     out.t_s = held_.front().t_s;
     out.scan_index = held_index_;
     out.position_m = {static_cast<double>(trajectory.size()), trajectory.empty() ? -1.0 : trajectory.front().t_s,
                       trajectory.empty() ? -1.0 : trajectory.back().t_s};
     out.iterations = static_cast<std::int32_t>(held_.size());
     if (corrections_applied != nullptr) out.covariance[0] = corrections_applied->load(std::memory_order_acquire);
-    out.registered = true;
-    out.converged = true;
-    out.inlier_ratio = 0.6f;
-    out.matched_ratio = 0.6f;
-    out.degeneracy = 0.5f;
     out.num_stages = 2;
     out.stage_ms = {0.5f, 2.0f};
     if (viewer != nullptr) {
