@@ -209,7 +209,7 @@ std::size_t Icp::match_point(std::size_t i, const PointCloud& reading, const Loc
 }
 
 IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl,
-                     bool hold_weak_translation, const Eigen::Matrix3d& prior_information_w) {
+                     const Eigen::Matrix3d& prior_information_w) {
   IcpResult result;
   Eigen::Matrix3d R = initial_T_wl.rotation();
   Eigen::Vector3d t = initial_T_wl.translation();
@@ -340,8 +340,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
       g_step.head<3>() += residual_variance * prior_information_w * (t - initial_T_wl.translation());
     }
     const Vector6d weakest = eigen.eigenvectors().col(0);
-    const bool hold = hold_weak_translation && lambda(0) < params_.hold_weak_translation_share * weight_sum &&
-                      mostly_translation(weakest);
+    const bool hold = lambda(0) < params_.hold_weak_translation_share * weight_sum && mostly_translation(weakest);
     result.held_translation_w = hold ? Eigen::Vector3d(weakest.head<3>().normalized()) : Eigen::Vector3d::Zero();
     const Vector6d step_scaled =
         hold        ? step_holding_translation(H_step, g_step, result.held_translation_w)

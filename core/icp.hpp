@@ -154,8 +154,6 @@ class Icp {
 
   // Registers `reading` (frame L, with sigmas or weights) to `map`, starting
   // from initial_T_wl. Allocation-free once its buffers have grown.
-  // hold_weak_translation false: no translation is held this time, whatever
-  // IcpParams::hold_weak_translation_share says.
   // prior_information_w (W axes): the inverse covariance of initial_T_wl's
   // translation, in the units of IcpResult::covariance (the caller's
   // calibration of that covariance applied); each step then minimises the
@@ -163,7 +161,6 @@ class Icp {
   // near the prediction instead of following the normals' noise. Zero: no
   // prior (the paper's ICP). IcpResult::covariance stays the scan's own.
   IcpResult align(const PointCloud& reading, const LocalMap& map, const Eigen::Isometry3d& initial_T_wl,
-                  bool hold_weak_translation = true,
                   const Eigen::Matrix3d& prior_information_w = Eigen::Matrix3d::Zero());
 
   const IcpParams& params() const { return params_; }

@@ -313,7 +313,8 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   reset.correction = (q_wi_registered * attitude_at(scan.t_start_s).conjugate()).normalized();
   reset.q_wi = q_wi_registered;
   reset.p_wi = scan.T_wl * params_.T_li.translation();
-  if (!scan.map_start && scan.expected_error_m <= params_.levelling_max_expected_error_m) {
+  if (!scan.map_start && (scan.expected_error_m <= params_.levelling_max_expected_error_m ||
+                          scan.expected_rotation_error_rad <= params_.levelling_max_rotation_error_rad)) {
     newest_levelling_s_ = std::max(newest_levelling_s_.value_or(scan.t_start_s), scan.t_start_s);
   }
 

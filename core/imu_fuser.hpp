@@ -105,6 +105,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "core/angles.hpp"
 #include "core/madgwick.hpp"
 #include "core/ring_buffer.hpp"
 #include "core/speed_uncertainty.hpp"
@@ -126,6 +127,11 @@ struct ImuFuserParams {
   // scan registered on a map (header, 2); 0: on every sample, as the paper.
   double accel_correction_after_s = 0.5;
   double levelling_max_expected_error_m = 0.024;  // of ScanResult::expected_error_icp_m (registration_confidence.hpp)
+  // Or when its attitude is this certain (ScanResult::expected_rotation_error_icp_rad):
+  // a corridor's scans pin the attitude (0.06-0.1°) but not the position
+  // along its axis, and with the accelerometer's step a walker's 0.8 m/s²
+  // along it tilted the attitude 5° (README, The corridor's attitude).
+  double levelling_max_rotation_error_rad = 0.15 * kDegToRad;
   bool attitude_from_device = false;
 
   double accel_noise_density_m_s2_sqrt_hz = 60e-6 * kStandardGravity_m_s2;  // MTi-30 datasheet
@@ -178,6 +184,7 @@ struct ScanCorrection {
   double position_sigma_m = 0.0;  // the registration's residual mapped to a pose uncertainty
   bool map_start = false;         // it started a new map: its pose is the prediction itself
   double expected_error_m = 0.0;  // ScanResult::expected_error_icp_m
+  double expected_rotation_error_rad = 0.0;  // ScanResult::expected_rotation_error_icp_rad
   // Unit, W axes: a translation the registration did not measure (it held
   // the prediction there, IcpParams::hold_weak_translation_share); zero: none.
   Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();

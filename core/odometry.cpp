@@ -106,6 +106,7 @@ bool Odometry::process(const Scan& scan) {
                                          .position_sigma_m = result.position_sigma_m,
                                          .map_start = result.map_initialised,
                                          .expected_error_m = result.expected_error_icp_m,
+                                         .expected_rotation_error_rad = result.expected_rotation_error_icp_rad,
                                          .unmeasured_w = result.held_translation_w});
   result.v_w = velocity_at(result.t_scan_start_s);
   if (result.timings.measured) {

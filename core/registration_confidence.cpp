@@ -36,11 +36,22 @@ Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& 
   return unbalance.asDiagonal() * out * unbalance.asDiagonal();
 }
 
-double expected_position_error_m(const Matrix6d& covariance) {
-  const Eigen::Matrix3d position = covariance.topLeftCorner<3, 3>();
-  if (!position.allFinite()) return std::numeric_limits<double>::infinity();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(position, Eigen::EigenvaluesOnly);
+namespace {
+
+double sqrt_largest_eigenvalue(const Eigen::Matrix3d& block) {
+  if (!block.allFinite()) return std::numeric_limits<double>::infinity();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(block, Eigen::EigenvaluesOnly);
   return std::sqrt(std::max(solver.eigenvalues().maxCoeff(), 0.0));
+}
+
+}  // namespace
+
+double expected_position_error_m(const Matrix6d& covariance) {
+  return sqrt_largest_eigenvalue(covariance.topLeftCorner<3, 3>());
+}
+
+double expected_rotation_error_rad(const Matrix6d& covariance) {
+  return sqrt_largest_eigenvalue(covariance.bottomRightCorner<3, 3>());
 }
 
 }  // namespace tumble

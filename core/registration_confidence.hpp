@@ -66,4 +66,8 @@ Matrix6d without_normal_noise(const Matrix6d& icp_covariance, const Degeneracy& 
 // covariance is not finite).
 double expected_position_error_m(const Matrix6d& covariance);
 
+// The same for the rotation block, rad: the expected attitude error about the
+// least constrained axis.
+double expected_rotation_error_rad(const Matrix6d& covariance);
+
 }  // namespace tumble

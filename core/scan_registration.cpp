@@ -184,10 +184,11 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.map_initialised = true;
     result.registered = true;
   } else {
-    // Where a direction has stayed unobserved (a corridor; the window as of
-    // the scan before) nothing is held: carried by the IMU alone for seconds,
-    // the corridor walks' pitch went 3° wrong and they ran away (README);
-    // free, ICP keeps them near standing still, and the state says lost.
+    // A weak translation is held in a corridor too (the IMU carries the
+    // axis, the fuser is told): free, ICP followed the rings' pattern and
+    // the walks stood still. Its pitch no longer goes wrong there since the
+    // scans that pin the attitude level it (ImuFuserParams::
+    // levelling_max_rotation_error_rad; README, The corridor's attitude).
     // The prediction holds ICP where the scan pins the pose no better
     // (position_uncertainty.hpp); not where a clipped sensor made it a
     // guess, and not in a corridor (above) until its window is clear of
@@ -203,7 +204,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
             ? position_uncertainty_.prior_information(t_start, params_.confidence.covariance_scale)
             : Eigen::Matrix3d::Zero();
     const IcpResult icp =
-        icp_.align(registered_, map_, predicted, !unobserved_direction_.unobserved(), prior_information);
+        icp_.align(registered_, map_, predicted, prior_information);
     result.registered = icp.matches_kept >= 6;
     result.converged = icp.converged;
     result.iterations = icp.iterations;
@@ -232,7 +233,9 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
                                 : params_.min_position_sigma_m;
   // The scan that starts a map defines it: no registration error, only the floor.
   const Matrix6d icp_covariance = result.map_initialised ? Matrix6d::Zero() : result.covariance;
-  result.expected_error_icp_m = expected_position_error_m(published_covariance(icp_covariance, params_.confidence));
+  const Matrix6d icp_published = published_covariance(icp_covariance, params_.confidence);
+  result.expected_error_icp_m = expected_position_error_m(icp_published);
+  result.expected_rotation_error_icp_rad = expected_rotation_error_rad(icp_published);
   result.covariance_published = published_covariance(
       without_normal_noise(icp_covariance, result.degeneracy, params_.confidence.normal_noise_share),
       params_.confidence);

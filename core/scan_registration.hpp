@@ -136,6 +136,10 @@ struct ScanResult {
   // seen-through gate and the fuser's levelling go by (their thresholds were
   // chosen on it; a corridor pins the attitude, which is what levelling needs).
   double expected_error_icp_m = expected_error_m;
+  // The same covariance's expected attitude error: a corridor's scans pin the
+  // attitude while their position error is large, and levelling needs only
+  // the attitude (ImuFuserParams::levelling_max_rotation_error_rad).
+  double expected_rotation_error_icp_rad = expected_rotation_error_rad(covariance_published);
   bool map_initialised = false;  // the first scan: inserted at the fuser's pose, not registered
   bool registered = false;       // false: too few matches (or rejected), the fuser's pose is kept
   bool rejected = false;         // matched, but beyond ScanConditions' limits from the prediction: not used

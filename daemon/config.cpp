@@ -99,6 +99,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("accel_gate_m_s2", f.accel_gate_m_s2, Range{0.01, 100.0});
     v.field("accel_correction_after_s", f.accel_correction_after_s, Range{0.0, 600.0});
     v.field("levelling_max_expected_error_m", f.levelling_max_expected_error_m, Range{0.0, 10.0});
+    v.field("levelling_max_rotation_error_deg", f.levelling_max_rotation_error_deg, Range{0.0, 180.0});
     v.field("init_static_s", f.init_static_s, Range{0.0, 60.0});
     v.field("attitude_source", f.attitude_source, Choice<AttitudeSource>{kAttitudeSources});
   });

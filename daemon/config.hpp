@@ -71,6 +71,7 @@ struct FuserConfig {
   double accel_gate_m_s2 = 2.0;
   double accel_correction_after_s = 0.5;
   double levelling_max_expected_error_m = 0.024;
+  double levelling_max_rotation_error_deg = 0.15;
   double init_static_s = 1.0;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;

@@ -142,6 +142,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
                       .position_sigma_m = registration.position_sigma_m,
                       .map_start = registration.map_initialised,
                       .expected_error_m = registration.expected_error_icp_m,
+                      .expected_rotation_error_rad = registration.expected_rotation_error_icp_rad,
                       .unmeasured_w = Eigen::Vector3f(registration.held_translation_w.data()).cast<double>()};
   scan.T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
   scan.T_wl.translation() =
@@ -398,6 +399,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
   out.expected_error_m = static_cast<float>(result.expected_error_m);
   out.expected_error_icp_m = static_cast<float>(result.expected_error_icp_m);
+  out.expected_rotation_error_icp_rad = static_cast<float>(result.expected_rotation_error_icp_rad);
   out.iterations = result.iterations;
   out.registered = result.registered;
   out.map_initialised = result.map_initialised;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "core/angles.hpp"
 #include "core/types.hpp"
 
 namespace tumble::daemon {
@@ -71,6 +72,7 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.fuser.madgwick.accel_gate_m_s2 = config.fuser.accel_gate_m_s2;
   p.fuser.accel_correction_after_s = config.fuser.accel_correction_after_s;
   p.fuser.levelling_max_expected_error_m = config.fuser.levelling_max_expected_error_m;
+  p.fuser.levelling_max_rotation_error_rad = config.fuser.levelling_max_rotation_error_deg * kDegToRad;
   p.fuser.attitude_from_device = config.fuser.attitude_source == AttitudeSource::Device;
   p.fuser.accel_noise_density_m_s2_sqrt_hz = config.imu.accel_noise_density_ug_sqrt_hz * 1e-6 * kStandardGravity_m_s2;
   // The re-propagation history must span a scan and the registration's lag

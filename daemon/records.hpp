@@ -99,6 +99,7 @@ struct RegistrationRecord {
   // the scan is weakly constrained (not a good scan).
   float expected_error_m = 0.0f;
   float expected_error_icp_m = 0.0f;  // ScanResult::expected_error_icp_m: the fuser's levelling goes by it
+  float expected_rotation_error_icp_rad = 0.0f;  // ScanResult::expected_rotation_error_icp_rad: and by this
   WeightModel model = WeightModel::GVTW;
   bool deskew = true;
   std::int32_t points_in = 0;

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include "core/angles.hpp"
 #include "daemon/scan_verdict.hpp"
 #include "daemon/steady_time.hpp"
 
@@ -13,7 +14,8 @@ ScanLog::ScanLog(std::string path, const std::vector<std::string>& stage_names, 
              "scan_index,t_s,registered,converged,iterations,inlier_ratio,residual_m,degeneracy,matched_ratio,"
              "correction_m,correction_deg,points_in,points_used,sigma_s_median_m,correction_x_m,correction_y_m,"
              "correction_z_m,expected_error_m,cov_txx,cov_tyy,cov_tzz,cov_txy,cov_txz,cov_tyz,map_points,map_seen_through,"
-             "direction_unobserved,expected_error_icp_m,spin_rate_unmeasured,good_scan,translation_held,prediction_prior");
+             "direction_unobserved,expected_error_icp_m,spin_rate_unmeasured,good_scan,translation_held,prediction_prior,"
+             "expected_rotation_error_icp_deg");
   for (const std::string& name : stage_names) fmt::print(file_.get(), ",{}_ms", name);
   fmt::print(file_.get(), ",total_ms,latency_ms\n");
 }
@@ -31,6 +33,7 @@ void ScanLog::on_registration(const RegistrationRecord& r) {
              r.direction_unobserved, r.expected_error_icp_m, r.spin_rate_unmeasured,
              scan_verdict(r, health_) == ScanVerdict::Good,
              r.held_translation_w != std::array<float, 3>{}, r.prediction_prior);
+  fmt::print(file_.get(), ",{:.5f}", r.expected_rotation_error_icp_rad * kRadToDeg);
   float total_ms = 0.0f;
   for (std::size_t i = 0; i < r.num_stages; ++i) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);

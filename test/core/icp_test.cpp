@@ -237,10 +237,6 @@ TEST(Icp, HoldsACorridorsAxisAtThePredictionAndStillSolvesTheRest) {
   EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), test::full_or_coarse(0.02, 0.2) * kDeg);
   // The covariance still says the axis is unknown.
   EXPECT_LT(r.degeneracy.min_eigenvalue, 1e-3);
-
-  // Told not to hold (a direction declared unobserved), it does not.
-  const IcpResult free = icp.align(f.reading, f.map, guess, false);
-  EXPECT_EQ(free.held_translation_w, Eigen::Vector3d::Zero());
 }
 
 TEST(Icp, HoldsNothingWhereEveryDirectionIsPinned) {
@@ -262,7 +258,7 @@ TEST(Icp, APriorKeepsACorridorsAxisNearThePredictionAndLeavesThePinnedDirections
   // decides x, the walls and floor decide y, z and the rotation.
   Eigen::Matrix3d information = Eigen::Matrix3d::Zero();
   information(0, 0) = 1.0 / (0.001 * 0.001);
-  const IcpResult r = icp.align(f.reading, f.map, guess, true, information);
+  const IcpResult r = icp.align(f.reading, f.map, guess, information);
   EXPECT_NEAR(r.T_wl.translation().x(), guess.translation().x(), 0.002);
   EXPECT_NEAR(r.T_wl.translation().y(), 0.3, 1e-3);
   EXPECT_LT(test::rotation_error_rad(r.T_wl, f.truth), test::full_or_coarse(0.02, 0.2) * kDeg);
@@ -277,7 +273,7 @@ TEST(Icp, APriorThatIsNotFiniteIsNoPrior) {
   RoomFixture f(false);
   const Eigen::Isometry3d guess = offset_guess(f.truth);
   const IcpResult paper = Icp().align(f.reading, f.map, guess);
-  const IcpResult broken = Icp().align(f.reading, f.map, guess, true,
+  const IcpResult broken = Icp().align(f.reading, f.map, guess,
                                        Eigen::Matrix3d::Constant(std::numeric_limits<double>::quiet_NaN()));
   EXPECT_TRUE(broken.T_wl.isApprox(paper.T_wl, 0.0));
 }
@@ -287,7 +283,7 @@ TEST(Icp, APriorBarelyMovesAPoseTheScanPins) {
   const Eigen::Isometry3d guess = offset_guess(f.truth);
   const IcpResult paper = Icp().align(f.reading, f.map, guess);
   const IcpResult with_prior =
-      Icp().align(f.reading, f.map, guess, true, Eigen::Matrix3d::Identity() / (0.02 * 0.02));
+      Icp().align(f.reading, f.map, guess, Eigen::Matrix3d::Identity() / (0.02 * 0.02));
   EXPECT_LT((with_prior.T_wl.translation() - paper.T_wl.translation()).norm(), test::full_or_coarse(1e-3, 5e-3));
   EXPECT_LT((with_prior.T_wl.translation() - f.truth.translation()).norm(), test::full_or_coarse(0.005, 0.02));
 }

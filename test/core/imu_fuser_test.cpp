@@ -64,15 +64,18 @@ Eigen::Isometry3d pose_of(const Eigen::Quaterniond& q, const Eigen::Vector3d& p)
   return T;
 }
 
-// The registration of the scan that starts at t_scan_s and lasts kScanS.
+// The registration of the scan that starts at t_scan_s and lasts kScanS;
+// its attitude levels only by its position's expected error unless given.
 CorrectionResult correct_scan(ImuFuser& fuser, double t_scan_s, const Eigen::Isometry3d& T_wl, double position_sigma_m,
-                              bool map_start = false, double expected_error_m = 0.0) {
+                              bool map_start = false, double expected_error_m = 0.0,
+                              double expected_rotation_error_rad = std::numeric_limits<double>::infinity()) {
   return fuser.correct_with_registered_pose({.t_start_s = t_scan_s,
                                              .t_end_s = t_scan_s + kScanS,
                                              .T_wl = T_wl,
                                              .position_sigma_m = position_sigma_m,
                                              .map_start = map_start,
-                                             .expected_error_m = expected_error_m});
+                                             .expected_error_m = expected_error_m,
+                                             .expected_rotation_error_rad = expected_rotation_error_rad});
 }
 
 // Index of the last trajectory sample at or before t.
@@ -205,16 +208,20 @@ TEST(ImuFuser, WithoutRegistrationsOnAMapTheAccelerometerLevelsTheAttitude) {
     const char* what;
     bool map_start;
     double expected_error_m;
+    double expected_rotation_error_rad;
     bool levels;
   };
-  for (const Case& c : {Case{"a scan registered on a map", false, 0.01, true},
-                        Case{"a map's first scan (the prediction itself)", true, 0.0, false},
-                        Case{"a weakly constrained scan", false, 0.05, false}}) {
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const Case& c : {Case{"a scan registered on a map", false, 0.01, inf, true},
+                        Case{"a map's first scan (the prediction itself)", true, 0.0, 0.0, false},
+                        Case{"a weakly constrained scan", false, 0.05, inf, false},
+                        Case{"a corridor's scan: the position weak, the attitude pinned", false, 1.0, 0.0015, true},
+                        Case{"a scan weak in attitude too", false, 0.05, 0.004, false}}) {
     SCOPED_TRACE(c.what);
     ImuFuser fuser(ImuFuserParams{});
     feed(fuser, truth, 0, 150);
     correct_scan(fuser, sample_time(150) - 0.005, pose_of(tilted, Eigen::Vector3d::Zero()), 0.01, c.map_start,
-                 c.expected_error_m);
+                 c.expected_error_m, c.expected_rotation_error_rad);
     feed(fuser, truth, 151, 190);  // 0.4 s
     const double tilt_at_0_4_s = tilt_error_rad(fuser, truth, fuser.trajectory().size() - 1);
     feed(fuser, truth, 191, 300);  // 1.5 s

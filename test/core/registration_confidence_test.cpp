@@ -85,8 +85,16 @@ TEST(RegistrationConfidence, ExpectedErrorIsAlongTheLeastConstrainedDirectionWha
   Matrix6d covariance = Matrix6d::Identity() * 1e-6;
   covariance.topLeftCorner<3, 3>() = R * sigmas_m.cwiseAbs2().asDiagonal() * R.transpose();
   EXPECT_NEAR(expected_position_error_m(covariance), 0.05, 1e-9);
+  // The attitude is 1 mrad sure about every axis but one tilted axis, 3 mrad:
+  // its expected error is that one's, whatever the position's.
+  const Eigen::Matrix3d tilt = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 1, 0).normalized()).toRotationMatrix();
+  covariance.bottomRightCorner<3, 3>() = tilt * Eigen::Vector3d(1e-6, 9e-6, 1e-6).asDiagonal() * tilt.transpose();
+  EXPECT_NEAR(expected_rotation_error_rad(covariance), 0.003, 1e-9);
   covariance(0, 0) = std::numeric_limits<double>::infinity();
   EXPECT_TRUE(std::isinf(expected_position_error_m(covariance)));
+  EXPECT_NEAR(expected_rotation_error_rad(covariance), 0.003, 1e-9);  // the position block is not read
+  covariance(4, 4) = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isinf(expected_rotation_error_rad(covariance)));
 }
 
 }  // namespace

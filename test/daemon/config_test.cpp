@@ -67,6 +67,7 @@ TEST(Config, DefaultsAreThePaperValues) {
   EXPECT_EQ(c.fuser.madgwick_beta, 0.1);
   EXPECT_EQ(c.fuser.accel_correction_after_s, 0.5);  // ours (README, "The attitude between scans")
   EXPECT_EQ(c.fuser.levelling_max_expected_error_m, 0.024);
+  EXPECT_EQ(c.fuser.levelling_max_rotation_error_deg, 0.15);
   EXPECT_EQ(c.map.radius_m, 50.0);
   EXPECT_EQ(c.lcm.url, "udpm://239.255.76.67:7667?ttl=0");
   EXPECT_EQ(c.lcm.channel_prefix, "TUMBLE_");

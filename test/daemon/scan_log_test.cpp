@@ -36,6 +36,7 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
     spin.spin_clipped_scans_in_row = 4;
     spin.matched_ratio = 0.27f;  // enough for a measured spin, not a clipped one
     spin.held_translation_w = {0.0f, -1.0f, 0.0f};
+    spin.expected_rotation_error_icp_rad = 0.001f;  // 0.0573° in the log
     log.on_registration(spin);
     RegistrationRecord loose = good_scan_record(2);
     loose.expected_error_m = 0.045f;  // over the default 0.04, within this config's 0.05
@@ -53,6 +54,7 @@ TEST(ScanLogTest, EachScanSaysWhetherTheHealthMachineCalledItGoodUnderTheConfigs
   EXPECT_EQ(written.column("good_scan"), (std::vector<double>{1, 0, 1, 0, 0}));
   EXPECT_EQ(written.column("spin_rate_unmeasured"), (std::vector<double>{0, 1, 0, 0, 0}));
   EXPECT_EQ(written.column("translation_held"), (std::vector<double>{0, 1, 0, 0, 0}));
+  EXPECT_NEAR(written.column("expected_rotation_error_icp_deg")[1], 0.0573, 1e-5);
   EXPECT_EQ(written.column("icp_ms"), std::vector<double>(5, 2.0));
 }
 
