@@ -16,7 +16,8 @@
 //    device's own orientation when `attitude_from_device` (aligned to W once,
 //    at the first sample that carries one). Ours: the accelerometer's step is
 //    left out while a scan registered on a map, within
-//    `levelling_max_expected_error_m`, levelled the attitude less than
+//    `levelling_max_expected_error_m` or with its attitude within
+//    `levelling_max_rotation_error_rad`, levelled the attitude less than
 //    `accel_correction_after_s` before the sample; the gyro alone
 //    carries it from one registration to the next (0.01° of drift in 0.1 s).
 //    The accelerometer measures gravity only when nothing accelerates the
@@ -25,7 +26,7 @@
 //    attitude that way by 0.57° per scan, which the de-skew carries into
 //    every point. Without such registrations (before the first map, lost,
 //    the lidar silent, a scan that pins the pose only weakly and may turn it
-//    wrongly: a corridor) the accelerometer is the only tilt reference and
+//    wrongly) the accelerometer is the only tilt reference and
 //    levels it as in the paper. The rule goes by data time. A correction
 //    re-bases the attitude steps of the samples up to the first one at or
 //    after the scan's end (the ones a lossless replay holds when the
@@ -184,7 +185,8 @@ struct ScanCorrection {
   double position_sigma_m = 0.0;  // the registration's residual mapped to a pose uncertainty
   bool map_start = false;         // it started a new map: its pose is the prediction itself
   double expected_error_m = 0.0;  // ScanResult::expected_error_icp_m
-  double expected_rotation_error_rad = 0.0;  // ScanResult::expected_rotation_error_icp_rad
+  // ScanResult::expected_rotation_error_icp_rad; unset, the attitude alone never levels.
+  double expected_rotation_error_rad = std::numeric_limits<double>::infinity();
   // Unit, W axes: a translation the registration did not measure (it held
   // the prediction there, IcpParams::hold_weak_translation_share); zero: none.
   Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();
@@ -203,9 +205,9 @@ class ImuFuser {
   // after the IMU data covers the scan's start (the pipeline needs that to
   // de-skew anyway); once it reaches the scan's end, the result no longer
   // depends on how far past it the samples go.
-  // It levels the attitude (header, 2) unless it starts a new map or its
-  // expected error is above levelling_max_expected_error_m; it re-anchors
-  // either way.
+  // It levels the attitude (header, 2) unless it starts a new map or both
+  // its expected error is above levelling_max_expected_error_m and its
+  // attitude's above levelling_max_rotation_error_rad; it re-anchors either way.
   CorrectionResult correct_with_registered_pose(const ScanCorrection& scan);
 
   bool initialized() const { return initialized_; }

@@ -203,8 +203,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
         result.prediction_prior
             ? position_uncertainty_.prior_information(t_start, params_.confidence.covariance_scale)
             : Eigen::Matrix3d::Zero();
-    const IcpResult icp =
-        icp_.align(registered_, map_, predicted, prior_information);
+    const IcpResult icp = icp_.align(registered_, map_, predicted, prior_information);
     result.registered = icp.matches_kept >= 6;
     result.converged = icp.converged;
     result.iterations = icp.iterations;

@@ -134,7 +134,7 @@ struct ScanResult {
   bool unobserved_spell_ended = false;
   // The expected error of the ICP's covariance as it is, calibrated: what the
   // seen-through gate and the fuser's levelling go by (their thresholds were
-  // chosen on it; a corridor pins the attitude, which is what levelling needs).
+  // chosen on it), the levelling also by the rotation figure below.
   double expected_error_icp_m = expected_error_m;
   // The same covariance's expected attitude error: a corridor's scans pin the
   // attitude while their position error is large, and levelling needs only

@@ -46,8 +46,6 @@ class UnobservedDirection {
   // the bar is not a direction seen again). The window outlives a new local
   // map: the weakness belongs to the place (a corridor loses its map often).
   bool add(const Degeneracy& degeneracy);
-  // What the last add() returned (false before any).
-  bool unobserved() const { return unobserved_; }
   // Whether a scan counts as weak here (weak_min_eigenvalue).
   bool weak(const Degeneracy& degeneracy) const { return degeneracy.min_eigenvalue < params_.weak_min_eigenvalue; }
   // Whether the last add() ended an unobserved spell.

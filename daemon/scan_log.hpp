@@ -13,8 +13,9 @@
 // translation_held (1: ICP held the translation along the scan's weakest
 // direction at the prediction, IcpParams::hold_weak_translation_share),
 // prediction_prior (1: the prediction was ICP's prior, position_uncertainty.hpp),
-// expected_rotation_error_icp_deg (the attitude's, of the covariance that
-// gives expected_error_icp_m: the fuser's levelling goes by both),
+// expected_rotation_error_icp_deg (degrees: the square root of the largest
+// eigenvalue of the rotation block of the covariance that gives
+// expected_error_icp_m; the fuser's levelling goes by both),
 // <stage>_ms per stage, total_ms, latency_ms (scan complete → handed to the
 // publisher). Written atomically like the trajectory file.
 #pragma once

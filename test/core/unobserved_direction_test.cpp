@@ -27,16 +27,15 @@ UnobservedDirectionParams params() {
 TEST(UnobservedDirection, SaysWhichScanEndedASpell) {
   UnobservedDirection tracker(params());
   const Degeneracy weak = weakest(0.001), strong = weakest(0.01);
-  for (int i = 0; i < 10; ++i) tracker.add(weak);
-  ASSERT_TRUE(tracker.unobserved());
+  for (int i = 0; i < 9; ++i) tracker.add(weak);
+  ASSERT_TRUE(tracker.add(weak));
   EXPECT_FALSE(tracker.spell_ended());
   // 10 in the window: the spell ends once fewer than 4.5 are weak, at the 6th strong scan.
   for (int i = 1; i <= 6; ++i) {
     tracker.add(strong);
     EXPECT_EQ(tracker.spell_ended(), i == 6) << i;
   }
-  tracker.add(strong);
-  EXPECT_FALSE(tracker.unobserved());
+  EXPECT_FALSE(tracker.add(strong));
   EXPECT_FALSE(tracker.spell_ended());  // once only
 }
 
@@ -46,8 +45,7 @@ TEST(UnobservedDirection, ASpellLastsUntilTheWindowHoldsNoWeakScan) {
   for (int i = 0; i < 8; ++i) tracker.add(weak);
   EXPECT_FALSE(tracker.since_spell());  // 8 of 10 weak: no spell yet
   tracker.add(weak);
-  tracker.add(weak);
-  ASSERT_TRUE(tracker.unobserved());
+  ASSERT_TRUE(tracker.add(weak));
   EXPECT_TRUE(tracker.since_spell());
   // The spell ends at the 6th strong scan; the weak scans left in the window
   // keep since_spell until the 10th.

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
+
 namespace tumble::daemon {
 namespace {
 
@@ -87,6 +89,17 @@ TEST(OdometryParamsFromConfig, ThePredictionIsICPsPriorByDefaultAndZeroTurnsItOf
   const OdometryParams off = odometry_params(load_config("registration:\n  prediction_sigma_m: 0\n", "test.yaml"));
   EXPECT_DOUBLE_EQ(off.position.prediction_sigma_m, 0.0);
   EXPECT_THROW(load_config("registration:\n  prediction_sigma_m: -0.01\n", "test.yaml"), ConfigError);
+}
+
+TEST(OdometryParamsFromConfig, TheLevellingsAttitudeLimitReachesTheFuserInRadians) {
+  EXPECT_NEAR(odometry_params(DaemonConfig{}).fuser.levelling_max_rotation_error_rad, 0.15 * std::numbers::pi / 180.0,
+              1e-15);
+  EXPECT_EQ(odometry_params(DaemonConfig{}).fuser.levelling_max_rotation_error_rad,
+            ImuFuserParams{}.levelling_max_rotation_error_rad);  // the core's default is the config's
+  const OdometryParams wide =
+      odometry_params(load_config("fuser:\n  levelling_max_rotation_error_deg: 2\n", "test.yaml"));
+  EXPECT_NEAR(wide.fuser.levelling_max_rotation_error_rad, 2.0 * std::numbers::pi / 180.0, 1e-15);
+  EXPECT_THROW(load_config("fuser:\n  levelling_max_rotation_error_deg: -1\n", "test.yaml"), ConfigError);
 }
 
 TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
