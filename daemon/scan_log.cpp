@@ -29,11 +29,11 @@ void ScanLog::on_registration(const RegistrationRecord& r) {
   fmt::print(file_.get(), ",{:.5f}", r.expected_error_m);
   // The published position covariance (upper triangle), for checking it against ground truth.
   for (const std::size_t i : {0, 7, 14, 1, 2, 8}) fmt::print(file_.get(), ",{:.4g}", r.covariance[i]);
-  fmt::print(file_.get(), ",{},{},{:d},{:.5f},{:d},{:d},{:d},{:d}", r.map_points, r.map_points_seen_through,
+  fmt::print(file_.get(), ",{},{},{:d},{:.5f},{:d},{:d},{:d},{:d},{:.5f}", r.map_points, r.map_points_seen_through,
              r.direction_unobserved, r.expected_error_icp_m, r.spin_rate_unmeasured,
              scan_verdict(r, health_) == ScanVerdict::Good,
-             r.held_translation_w != std::array<float, 3>{}, r.prediction_prior);
-  fmt::print(file_.get(), ",{:.5f}", r.expected_rotation_error_icp_rad * kRadToDeg);
+             r.held_translation_w != std::array<float, 3>{}, r.prediction_prior,
+             r.expected_rotation_error_icp_rad * kRadToDeg);
   float total_ms = 0.0f;
   for (std::size_t i = 0; i < r.num_stages; ++i) {
     fmt::print(file_.get(), ",{:.3f}", r.stage_ms[i]);

@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -68,7 +69,7 @@ Eigen::Isometry3d pose_of(const Eigen::Quaterniond& q, const Eigen::Vector3d& p)
 // its attitude levels only by its position's expected error unless given.
 CorrectionResult correct_scan(ImuFuser& fuser, double t_scan_s, const Eigen::Isometry3d& T_wl, double position_sigma_m,
                               bool map_start = false, double expected_error_m = 0.0,
-                              double expected_rotation_error_rad = std::numeric_limits<double>::infinity()) {
+                              double expected_rotation_error_rad = ScanCorrection{}.expected_rotation_error_rad) {
   return fuser.correct_with_registered_pose({.t_start_s = t_scan_s,
                                              .t_end_s = t_scan_s + kScanS,
                                              .T_wl = T_wl,
