@@ -15,17 +15,6 @@ namespace tumble::eval {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-// A scan's pose is the estimate's sample at the scan's time (the trajectory
-// file and the scan log both print the scan start).
-constexpr double kSameTime_s = 1e-4;
-
-std::optional<TimedPose> pose_at_time(const PoseSeries& series, double t_s) {
-  const auto it = std::lower_bound(series.begin(), series.end(), t_s - kSameTime_s,
-                                   [](const TimedPose& p, double t) { return p.t_s < t; });
-  if (it == series.end() || std::abs(it->t_s - t_s) > kSameTime_s) return std::nullopt;
-  return *it;
-}
-
 struct RegisteredScan {
   double t_s;
   Eigen::Isometry3d estimate;
@@ -130,7 +119,7 @@ std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const Pos
   std::vector<RegisteredScan> history;  // the registered scans so far (none after an unregistered one)
   std::vector<ScanIntegrity> out;
   for (std::size_t i = 0; i < log.scans(); ++i) {
-    const std::optional<TimedPose> pose = pose_at_time(estimate, t_s[i]);
+    const std::optional<TimedPose> pose = sample_at(estimate, t_s[i]);
     const bool inside = !ground_truth.empty() && t_s[i] >= ground_truth.front().t_s && t_s[i] <= ground_truth.back().t_s;
     if (registered[i] == 0.0 || !pose || !inside) {
       history.clear();

@@ -9,6 +9,8 @@
 namespace tumble::eval {
 namespace {
 
+constexpr double kSameTime_s = 1e-4;
+
 // Index of the last sample with t <= t_s; the caller has checked the span.
 std::size_t segment_start(const PoseSeries& series, double t_s) {
   const auto after =
@@ -52,6 +54,13 @@ Eigen::Isometry3d pose_at(const PoseSeries& series, double t_s) {
   transform.linear() = a.orientation.slerp(alpha, b.orientation).normalized().toRotationMatrix();
   transform.translation() = position_at(series, i, t_s);
   return transform;
+}
+
+std::optional<TimedPose> sample_at(const PoseSeries& series, double t_s) {
+  const auto it = std::lower_bound(series.begin(), series.end(), t_s - kSameTime_s,
+                                   [](const TimedPose& p, double t) { return p.t_s < t; });
+  if (it == series.end() || std::abs(it->t_s - t_s) > kSameTime_s) return std::nullopt;
+  return *it;
 }
 
 double path_length_m(const PoseSeries& series, double t0_s, double t1_s) {

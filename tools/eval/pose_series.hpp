@@ -5,6 +5,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <optional>
 #include <vector>
 
 namespace tumble::eval {
@@ -23,6 +24,11 @@ Eigen::Isometry3d to_isometry(const TimedPose& pose);
 // Linear in position, slerp in orientation between the two samples around t.
 // Throws std::out_of_range when t is outside [front, back].
 Eigen::Isometry3d pose_at(const PoseSeries& series, double t_s);
+
+// The series' own sample at t_s, or none. A scan's estimated pose is looked up
+// this way: the trajectory file and the scan log both print the scan's start,
+// to within 0.1 ms.
+std::optional<TimedPose> sample_at(const PoseSeries& series, double t_s);
 
 // Sum of sample-to-sample distances between t0 and t1 (ends interpolated),
 // t0 <= t1, both inside the series. On a 1 kHz ground truth this is the

@@ -28,6 +28,15 @@ TEST(PoseSeries, RefusesTimesOutsideItsSpan) {
   EXPECT_THROW(pose_at(PoseSeries{series.front()}, 1.0), std::out_of_range);
 }
 
+TEST(PoseSeries, TheSampleAtAScansTimeIsFoundWithinATenthOfAMillisecond) {
+  const PoseSeries series = {pose(1.0, {0, 0, 0}, 0.0), pose(1.1, {1, 0, 0}, 0.0), pose(1.2, {2, 0, 0}, 0.0)};
+  ASSERT_TRUE(sample_at(series, 1.10005).has_value());
+  EXPECT_DOUBLE_EQ(sample_at(series, 1.10005)->position_m.x(), 1.0);
+  EXPECT_FALSE(sample_at(series, 1.15).has_value());  // between samples: not interpolated
+  EXPECT_FALSE(sample_at(series, 1.2002).has_value());
+  EXPECT_FALSE(sample_at(PoseSeries{}, 1.0).has_value());
+}
+
 TEST(PoseSeries, PathLengthOfAQuarterCircleSampledAt1kHz) {
   // Radius 2 m, a quarter turn in 1 s: the chord sum falls short of πr/2 by
   // about (πr/2)·(Δθ)²/24, Δθ = (π/2)/1000, i.e. 3e-7 m.
