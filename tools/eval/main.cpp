@@ -290,7 +290,8 @@ int main(int argc, char** argv) {
 
   ScoreOptions score_options;
   CLI::App* score =
-      app.add_subcommand("score", "one tumbled trajectory against ground truth, and its scan log's stage times");
+      app.add_subcommand("score", "one tumbled trajectory against ground truth; from its scan log, the stage "
+                                  "times and how far its pose ran away while published as good");
   score->add_option("ground_truth", score_options.ground_truth, "ground truth (TUM), e.g. RUN/ground_truth.tum")
       ->required()
       ->check(CLI::ExistingFile);

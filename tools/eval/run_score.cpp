@@ -16,12 +16,29 @@ std::size_t count_true(const std::vector<double>& flags) {
   return n;
 }
 
+std::string runaway_markdown(const std::optional<Runaway>& runaway) {
+  if (!runaway) return "\nRunaway: not measured (the scan log has no good_scan column).\n";
+  const double not_good_percent =
+      runaway->scans > 0 ? 100.0 * static_cast<double>(runaway->not_good_scans) / static_cast<double>(runaway->scans)
+                         : 0.0;
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "\nRunaway, the largest rise of the position error within a stretch of consecutive good scans "
+                "(none may exceed %.1f m; times since the first pose):\n"
+                "- %s; stretches over %.1f m: %zu; scans not good: %.2f %% of %zu\n",
+                kRunawayLimit_m, largest_growth_text(*runaway).c_str(), kRunawayLimit_m,
+                runaway->stretches_over_limit, not_good_percent, runaway->scans);
+  return text;
+}
+
 }  // namespace
 
 RunScore score_run(const std::filesystem::path& ground_truth, const std::filesystem::path& trajectory,
                    const std::optional<std::filesystem::path>& scan_log, const DriftOptions& options) {
   RunScore score;
-  score.drift = evaluate_drift(read_tum(ground_truth), read_tum(trajectory), options);
+  const PoseSeries truth = read_tum(ground_truth);
+  const PoseSeries estimate = read_tum(trajectory);
+  score.drift = evaluate_drift(truth, estimate, options);
   if (!scan_log) return score;
   const ScanLog log = read_scan_log(*scan_log);
   score.scans = log.scans();
@@ -31,6 +48,7 @@ RunScore score_run(const std::filesystem::path& ground_truth, const std::filesys
     score.stages.push_back(timing_stats(stage.substr(0, stage.size() - 3), log.column(stage)));
   score.total = timing_stats("whole pipeline (total)", log.column("total_ms"));
   score.latency = timing_stats("latency (scan complete → published)", log.column("latency_ms"));
+  score.runaway = runaway_of(truth, estimate, log);
   return score;
 }
 
@@ -57,7 +75,7 @@ std::string score_markdown(const RunScore& score) {
   for (const TimingStats& stage : score.stages) md += timing_row(stage);
   md += timing_row(*score.total);
   if (score.latency) md += timing_row(*score.latency);
-  return md;
+  return md + runaway_markdown(score.runaway);
 }
 
 }  // namespace tumble::eval

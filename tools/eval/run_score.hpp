@@ -1,5 +1,6 @@
 // `tumble-eval score`: one tumbled trajectory against its ground truth, and
-// what its scans cost (from the --scan-log CSV). What `./tumble demo` prints.
+// from the --scan-log CSV what its scans cost and how far its pose ran away
+// while published as good. What `./tumble demo` prints.
 #pragma once
 
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <vector>
 
 #include "tools/eval/drift.hpp"
+#include "tools/eval/runaway.hpp"
 #include "tools/eval/speed_report.hpp"
 
 namespace tumble::eval {
@@ -20,6 +22,7 @@ struct RunScore {
   std::vector<TimingStats> stages;
   std::optional<TimingStats> total;
   std::optional<TimingStats> latency;
+  std::optional<Runaway> runaway;  // none without a scan log or its good_scan column
 };
 
 // Throws std::runtime_error naming the file that is missing or malformed, and

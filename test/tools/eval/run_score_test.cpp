@@ -49,6 +49,26 @@ TEST(RunScore, DriftAndStageTimesOfOneRun) {
   EXPECT_NE(md.find("**0.50 cm/m**"), std::string::npos) << md;
   EXPECT_NE(md.find("Scans: 3, registered 2, ICP converged 1."), std::string::npos) << md;
   EXPECT_NE(md.find("| normals | 20.000 | 20.000 |"), std::string::npos) << md;
+  EXPECT_FALSE(score.runaway.has_value());
+  EXPECT_NE(md.find("\nRunaway: not measured (the scan log has no good_scan column).\n"), std::string::npos) << md;
+}
+
+TEST(RunScore, TheRunawayFromTheScanLogsVerdicts) {
+  const TempDir dir("score");
+  write_file(dir.path() / "gt.tum", line_tum(0.0, 1000));
+  write_file(dir.path() / "est.tum", line_tum(0.05, 100));  // the error grows 5 mm per second
+  write_file(dir.path() / "scans.csv",
+             "t_s,registered,converged,good_scan,total_ms,latency_ms\n"
+             "100.0,1,1,1,5,6\n102.0,1,1,1,5,6\n106.0,1,1,0,5,6\n110.0,1,1,1,5,6\n");
+  const RunScore score = score_run(dir.path() / "gt.tum", dir.path() / "est.tum", dir.path() / "scans.csv", {});
+  ASSERT_TRUE(score.runaway.has_value());
+  EXPECT_NEAR(score.runaway->growth_m(), 0.01, 1e-6);
+  const std::string md = score_markdown(score);
+  EXPECT_NE(md.find("\nRunaway, the largest rise of the position error within a stretch of consecutive good scans "
+                    "(none may exceed 0.5 m; times since the first pose):\n"
+                    "- 0.010 m over 0.0–2.0 s (2 scans); stretches over 0.5 m: 0; scans not good: 25.00 % of 4\n"),
+            std::string::npos)
+      << md;
 }
 
 TEST(RunScore, WithoutAScanLogOnlyTheDriftIsReported) {
