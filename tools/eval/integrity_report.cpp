@@ -101,6 +101,43 @@ std::string percent(std::size_t part, std::size_t whole) {
   return text;
 }
 
+// "cage-12, 0.620 m over 3.1–9.8 s (40 scans), 2 stretch(es) over"
+std::string runaway_over_text(const RunIntegrity& run) {
+  char text[512];
+  std::snprintf(text, sizeof text, "%s, %s, %zu stretch(es) over", run.name.c_str(),
+                largest_growth_text(*run.runaway).c_str(), run.runaway->stretches_over_limit);
+  return text;
+}
+
+// The bench's runaway: the run whose good stretch grew most, and every run
+// over the bar by name, since each of those is a bug to chase.
+std::string runaway_table(const std::vector<RunIntegrity>& runs) {
+  std::size_t measured = 0;
+  const RunIntegrity* largest = nullptr;
+  std::vector<std::string> over;
+  for (const RunIntegrity& run : runs) {
+    if (!run.runaway) continue;
+    ++measured;
+    if (largest == nullptr || run.runaway->growth_m() > largest->runaway->growth_m()) largest = &run;
+    if (run.runaway->growth_m() > kRunawayLimit_m) over.push_back(runaway_over_text(run));
+  }
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "\nRunaway: per run, the largest rise of a scan's position error (the estimate aligned at its first "
+                "pose) within a stretch of consecutive good scans; none may exceed %.1f m.\n\n"
+                "| runs measured (scan log with good_scan) | largest growth | its run | runs over %.1f m |\n"
+                "|---|---|---|---|\n| %zu of %zu | %s | %s | %zu |\n",
+                kRunawayLimit_m, kRunawayLimit_m, measured, runs.size(),
+                largest ? largest_growth_text(*largest->runaway).c_str() : "–", largest ? largest->name.c_str() : "–",
+                over.size());
+  std::string md = text;
+  if (over.empty()) return md;
+  std::snprintf(text, sizeof text, "\nRuns over %.1f m:", kRunawayLimit_m);
+  md += text;
+  for (std::size_t i = 0; i < over.size(); ++i) md += (i == 0 ? " " : "; ") + over[i];
+  return md + ".\n";
+}
+
 }  // namespace
 
 std::vector<ScanIntegrity> score_scans(const PoseSeries& ground_truth, const PoseSeries& estimate, const ScanLog& log,
@@ -226,7 +263,7 @@ std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std:
                   median(nees));
     md += text;
   }
-  return md;
+  return md + runaway_table(runs);
 }
 
 }  // namespace tumble::eval

@@ -9,7 +9,7 @@
 // - that one-scan error against the two poses' published position
 //   covariances: NEES per degree of freedom, eᵀ(P_a + P_b)⁻¹e / 3, with e in W.
 // Per run: its error, the final one in cm/m, or for a run of kind `long` (which
-// ends where it started) the RPE over 10 m of travel.
+// ends where it started) the RPE over 10 m of travel; and its runaway.
 #pragma once
 
 #include <cstddef>
@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "tools/eval/pose_series.hpp"
+#include "tools/eval/runaway.hpp"
 #include "tools/eval/scan_log.hpp"
 
 namespace tumble::eval {
@@ -44,6 +45,7 @@ struct RunIntegrity {
   double error_cm_per_m = 0.0;  // the run's error (header): what "run over 2 cm/m" judges
   double distance_m = 0.0;
   std::vector<ScanIntegrity> scans;
+  std::optional<Runaway> runaway = std::nullopt;  // none without a scan log with good_scan
 };
 
 struct DetectorLimits {
@@ -54,7 +56,8 @@ struct DetectorLimits {
 };
 
 // One markdown report: per threshold, the detector's figures, and the same
-// figures for tumbled's verdict where every scan has one; then the NEES.
+// figures for tumbled's verdict where every scan has one; then the NEES; then
+// the runs' runaway (runaway.hpp): the largest, and every run over the bar.
 std::string integrity_markdown(const std::vector<RunIntegrity>& runs, const std::vector<double>& thresholds_m,
                                const DetectorLimits& limits = {});
 

@@ -21,6 +21,8 @@
 #include "tools/eval/job_runner.hpp"
 #include "tools/eval/matrix_report.hpp"
 #include "tools/eval/run_score.hpp"
+#include "tools/eval/runaway.hpp"
+#include "tools/eval/scan_log.hpp"
 #include "tools/eval/speed_report.hpp"
 #include "tools/eval/tum_file.hpp"
 #include "tools/eval/tumbled_job.hpp"
@@ -250,7 +252,9 @@ int run_integrity(const IntegrityOptions& options) {
     const DriftResult drift = evaluate_drift(truth, estimate, DriftOptions{long_run ? kLongRunSegment_m : 1.0});
     result.error_cm_per_m = long_run ? drift.rpe_translation_cm_per_m : drift.translation_cm_per_m;
     result.distance_m = drift.distance_m;
-    result.scans = score_scans(truth, estimate, read_scan_log(paths.scan_log), options.window);
+    const ScanLog log = read_scan_log(paths.scan_log);
+    result.scans = score_scans(truth, estimate, log, options.window);
+    result.runaway = runaway_of(truth, estimate, log);
     scored.push_back(std::move(result));
   }
   std::fputs(integrity_markdown(scored, options.thresholds_m).c_str(), stdout);
@@ -320,8 +324,9 @@ int main(int argc, char** argv) {
 
   IntegrityOptions integrity_options;
   CLI::App* integrity = app.add_subcommand(
-      "integrity", "tumbled's expected error (scan log) as a detector of wrong poses, and the NEES of its published "
-                   "covariance, against ground truth, on a finished matrix");
+      "integrity", "tumbled's expected error (scan log) as a detector of wrong poses, the NEES of its published "
+                   "covariance, and how far a pose ran away while published as good, against ground truth, on a "
+                   "finished matrix");
   integrity->add_option("bench_dir", integrity_options.bench_dir, "tumble-sim bench folder (with bench.csv)")
       ->required()
       ->check(CLI::ExistingDirectory);

@@ -118,5 +118,36 @@ TEST(IntegrityReport, ScoresTumbledsVerdictBesideTheThresholdsWhenEveryScanHasOn
   EXPECT_EQ(md.find("tumbled's verdict"), std::string::npos) << md;
 }
 
+Runaway runaway_growing(double growth_m, std::size_t stretches_over) {
+  Runaway runaway;
+  runaway.scans = 100;
+  runaway.stretches_over_limit = stretches_over;
+  runaway.largest = GoodStretch{2.0, 9.5, 40, growth_m};
+  return runaway;
+}
+
+TEST(IntegrityReport, NamesTheRunsWhosePoseRanAwayWhilePublishedAsGood) {
+  const ScanIntegrity fine{0.01, 0.001, 0.01, 1.0, true};
+  std::vector<RunIntegrity> runs(4, RunIntegrity{"", 0.1, 10.0, std::vector<ScanIntegrity>(10, fine)});
+  runs[0].name = "steady";
+  runs[0].runaway = runaway_growing(0.12, 0);
+  runs[1].name = "away";
+  runs[1].runaway = runaway_growing(1.5, 2);
+  runs[2].name = "just-over";
+  runs[2].runaway = runaway_growing(0.51, 1);
+  runs[3].name = "old-log";  // no good_scan column: not measured
+  const std::string md = integrity_markdown(runs, {0.04});
+  EXPECT_NE(md.find("| 3 of 4 | 1.500 m over 2.0–9.5 s (40 scans) | away | 2 |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("\nRuns over 0.5 m: away, 1.500 m over 2.0–9.5 s (40 scans), 2 stretch(es) over; just-over, "
+                    "0.510 m over 2.0–9.5 s (40 scans), 1 stretch(es) over.\n"),
+            std::string::npos)
+      << md;
+
+  runs.resize(1);
+  const std::string calm = integrity_markdown(runs, {0.04});
+  EXPECT_NE(calm.find("| 1 of 1 | 0.120 m over 2.0–9.5 s (40 scans) | steady | 0 |\n"), std::string::npos) << calm;
+  EXPECT_EQ(calm.find("Runs over 0.5 m"), std::string::npos) << calm;
+}
+
 }  // namespace
 }  // namespace tumble::eval
