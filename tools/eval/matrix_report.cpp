@@ -157,7 +157,7 @@ void write_runs_csv(const std::filesystem::path& path, const std::vector<RunResu
   if (!out) throw std::runtime_error(path.string() + ": cannot write");
   out << "run,kind,model,deskew,status,message,poses,scans,registered_scans,distance_m,translation_error_m,"
          "rotation_error_deg,translation_cm_per_m,rotation_deg_per_m,rpe_segments,rpe_translation_cm_per_m,"
-         "rpe_rotation_deg_per_m,duration_s,wall_s,realtime_multiple,peak_rss_mib,trajectory\n";
+         "rpe_rotation_deg_per_m,duration_s,wall_s,realtime_multiple,peak_rss_mib,trajectory,runaway_growth_m\n";
   for (const RunResult& r : results) {
     const bool ran = r.child.start_error.empty();
     out << csv_field(r.run) << ',' << csv_field(r.kind) << ',' << r.variant.model << ',' << (r.variant.deskew ? 1 : 0)
@@ -175,7 +175,8 @@ void write_runs_csv(const std::filesystem::path& path, const std::vector<RunResu
     out << number(r.duration_s, "%.3f") << ',' << (ran ? number(r.child.wall_s, "%.3f") : "") << ','
         << number(r.realtime_multiple(), "%.2f") << ','
         << (ran ? number(static_cast<double>(r.child.peak_rss_kib) / 1024.0, "%.1f") : "") << ','
-        << csv_field(r.trajectory.string()) << '\n';
+        << csv_field(r.trajectory.string()) << ',' << (r.runaway ? number(r.runaway->growth_m(), "%.4f") : "")
+        << '\n';
   }
   if (!out) throw std::runtime_error(path.string() + ": write error");
 }

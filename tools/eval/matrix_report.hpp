@@ -42,7 +42,8 @@ struct MatrixDescription {
 std::string results_markdown(const MatrixDescription& description, const std::vector<CellSummary>& cells,
                              const std::vector<RunResult>& results);
 
-// One row per job; numbers empty when not measured. Throws std::runtime_error
+// One row per job; numbers empty when not measured. Columns are only ever
+// appended (scripts read them by header). Throws std::runtime_error
 // when the file cannot be written.
 void write_runs_csv(const std::filesystem::path& path, const std::vector<RunResult>& results);
 

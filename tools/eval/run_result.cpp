@@ -130,6 +130,7 @@ RunResult evaluate_job(const BenchRun& run, const Variant& variant, const JobPat
           " (short or corrupt recording? see " + paths.log.string() + ")";
       return result;
     }
+    result.runaway = runaway_of(ground_truth, estimate, log);
   } catch (const std::exception& e) {
     scan_log_note = std::string("scan log unusable: ") + e.what();
   }

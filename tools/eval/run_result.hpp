@@ -8,6 +8,7 @@
 #include "tools/eval/bench_index.hpp"
 #include "tools/eval/child_processes.hpp"
 #include "tools/eval/drift.hpp"
+#include "tools/eval/runaway.hpp"
 #include "tools/eval/tumbled_job.hpp"
 
 namespace tumble::eval {
@@ -51,6 +52,9 @@ struct RunResult {
   std::optional<DriftResult> drift;
   std::size_t scans = 0;  // rows of the scan log
   std::size_t registered_scans = 0;
+  // On ok and diverged runs alike: a run that diverged while published as
+  // good is the worst case. None without a usable scan log with good_scan.
+  std::optional<Runaway> runaway;
   ChildOutcome child;  // wall time, peak RSS
   std::filesystem::path trajectory;
 

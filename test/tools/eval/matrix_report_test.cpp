@@ -86,7 +86,10 @@ TEST(MatrixReport, MarkdownHasOneRowPerCellAndListsTheRunsNotEvaluated) {
 
 TEST(MatrixReport, CsvHasEveryJobWithQuotedMessages) {
   const TempDir dir("report");
-  write_runs_csv(dir.path() / "runs.csv", sample_results());
+  std::vector<RunResult> results = sample_results();
+  results[0].runaway = Runaway{};
+  results[0].runaway->largest = GoodStretch{1.0, 4.0, 30, 0.62};
+  write_runs_csv(dir.path() / "runs.csv", results);
   const std::string csv = read_file(dir.path() / "runs.csv");
   std::vector<std::string> lines;
   for (std::size_t start = 0, end; (end = csv.find('\n', start)) != std::string::npos; start = end + 1)
@@ -94,13 +97,15 @@ TEST(MatrixReport, CsvHasEveryJobWithQuotedMessages) {
   ASSERT_EQ(lines.size(), 7u);
   EXPECT_EQ(
       lines[1],
-      "cage-01,cage,NM,0,ok,,90,0,0,5.0000,1.00000,25.0000,20.0000,5.0000,40,10.0000,2.5000,10.000,4.000,2.50,2.0,");
+      "cage-01,cage,NM,0,ok,,90,0,0,5.0000,1.00000,25.0000,20.0000,5.0000,40,10.0000,2.5000,10.000,4.000,2.50,2.0,,"
+      "0.6200");
   EXPECT_EQ(lines[5],
             "cage-05,cage,NM,0,failed,\"no imu.pcap in /b/cage-05, \"\"really\"\"\",,0,0,,,,,,,,,10.000,"
-            "4.000,2.50,2.0,");
+            "4.000,2.50,2.0,,");  // no scan log: no runaway
   const auto fields_in = [](const std::string& line) { return std::count(line.begin(), line.end(), ',') + 1; };
-  EXPECT_EQ(fields_in(lines[0]), 22);
-  EXPECT_EQ(fields_in(lines[1]), 22);
+  EXPECT_EQ(fields_in(lines[0]), 23);
+  EXPECT_TRUE(lines[0].ends_with(",trajectory,runaway_growth_m")) << lines[0];
+  EXPECT_EQ(fields_in(lines[1]), 23);
 }
 
 }  // namespace

@@ -68,6 +68,19 @@ TEST(RunResult, AGoodEstimateIsOkWithItsFigures) {
   EXPECT_EQ(result.registered_scans, 2u);
   EXPECT_DOUBLE_EQ(result.realtime_multiple(), 4.0);
   EXPECT_EQ(result.trajectory, fixture.paths.trajectory);
+  EXPECT_FALSE(result.runaway.has_value());  // a scan log without good_scan
+}
+
+TEST(RunResult, TheRunawayIsMeasuredWhereTheScanLogHasTheVerdict) {
+  RunFixture fixture;
+  fixture.write_estimate(1.02, 9.95);  // 2 cm off per metre, published as good throughout
+  write_file(fixture.paths.scan_log, "scan_index,t_s,registered,good_scan,total_ms\n0," + std::to_string(kT0 + 0.05) +
+                                         ",1,1,5\n1," + std::to_string(kT0 + 5.05) + ",1,1,6\n2," +
+                                         std::to_string(kT0 + 9.95) + ",1,1,5\n");
+  const RunResult result = fixture.evaluate(fixture.clean_exit);
+  EXPECT_EQ(result.status, RunStatus::Ok) << result.message;
+  ASSERT_TRUE(result.runaway.has_value());
+  EXPECT_NEAR(result.runaway->growth_m(), 0.02 * 9.9, 1e-5);
 }
 
 TEST(RunResult, LostTrackingLargeErrorOrNoPosesIsDiverged) {
