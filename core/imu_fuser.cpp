@@ -12,6 +12,8 @@ namespace {
 
 // A direction cosine above this couples one axis into another (clip flags).
 constexpr double kAxisCoupling = 0.1;
+// The velocity variance published while it is unknown (waiting for rest): 10 m/s, 1 σ.
+constexpr double kUnknownVelocityVariance_m2_s2 = 100.0;
 
 bool any(const std::array<bool, 3>& flags) { return flags[0] || flags[1] || flags[2]; }
 
@@ -43,6 +45,7 @@ ImuFuser::ImuFuser(const ImuFuserParams& params)
       trajectory_(params.trajectory_capacity, params.speed_uncertainty) {
   if (params.history_capacity < 2) throw std::invalid_argument("ImuFuser: history_capacity must be at least 2");
   if (!(params.static_duration_s >= 0.0)) throw std::invalid_argument("ImuFuser: static_duration_s must be >= 0");
+  if (!(params.rest_duration_s >= 0.0)) throw std::invalid_argument("ImuFuser: rest_duration_s must be >= 0");
 }
 
 Eigen::Vector3d ImuFuser::velocity_variance() const {
@@ -119,6 +122,10 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   }
 
   const HistoryEntry& previous = history_.back();
+  if (awaiting_rest_) {
+    add_imu_awaiting_rest(sample, previous);
+    return;
+  }
   const double dt = sample.t_s - previous.t_s;
   if (dt > params_.max_imu_gap_s) {
     ++stats_.imu_gaps;
@@ -171,12 +178,16 @@ void ImuFuser::reanchor(const ImuSample& sample) {
   entry.accel_w = gravity_free_accel(q_wi, entry.accel_i);
   entry.state.v_w = v_wi;
   entry.state.p_w = a.p_wi + v_wi * h;
-  entry.state.variance.setConstant((a.sigma_m * a.sigma_m + b.sigma_m * b.sigma_m) / (dt_ab * dt_ab));
+  const double bridged_var = params_.bridged_velocity_sigma_m_s * params_.bridged_velocity_sigma_m_s;
+  entry.state.variance.setConstant(
+      std::max((a.sigma_m * a.sigma_m + b.sigma_m * b.sigma_m) / (dt_ab * dt_ab), bridged_var));
   history_.clear();
   trajectory_.clear();
   history_.push_back(entry);
   trajectory_.push_back(to_trajectory_sample(entry));
-  previous_registration_ = a;
+  // The anchors were de-skewed and placed on a guess: the next velocity
+  // measurement spans two scans the IMU covered (header, 7).
+  previous_registration_.reset();
   lidar_rate_i_rad_s_ = rate_i;
   anchor_.reset();
   previous_anchor_.reset();
@@ -184,7 +195,7 @@ void ImuFuser::reanchor(const ImuSample& sample) {
   ++stats_.reanchors;
 }
 
-void ImuFuser::accumulate_static(const ImuSample& sample) {
+bool ImuFuser::completes_still_window(const ImuSample& sample, double duration_s) {
   const double accel_norm = sample.accel_m_s2.norm();
   bool moving = sample.gyro_rad_s.norm() > params_.static_max_gyro_rad_s ||
                 std::abs(accel_norm - kStandardGravity_m_s2) > params_.static_accel_tolerance_m_s2 ||
@@ -198,13 +209,69 @@ void ImuFuser::accumulate_static(const ImuSample& sample) {
     static_count_ = 0;
     static_accel_sum_.setZero();
     static_gyro_sum_.setZero();
-    return;
+    return false;
   }
   if (static_count_ == 0) static_start_s_ = sample.t_s;
   ++static_count_;
   static_accel_sum_ += sample.accel_m_s2;
   static_gyro_sum_ += sample.gyro_rad_s;
-  if (static_count_ >= 2 && sample.t_s - static_start_s_ >= params_.static_duration_s) initialize(sample);
+  return static_count_ >= 2 && sample.t_s - static_start_s_ >= duration_s;
+}
+
+void ImuFuser::accumulate_static(const ImuSample& sample) {
+  if (completes_still_window(sample, params_.static_duration_s)) initialize(sample);
+}
+
+void ImuFuser::restart_at_rest() {
+  if (!initialized_) return;
+  awaiting_rest_ = true;
+  static_count_ = 0;
+  static_accel_sum_.setZero();
+  static_gyro_sum_.setZero();
+  previous_registration_.reset();
+  anchor_.reset();
+  previous_anchor_.reset();
+  newest_levelling_s_.reset();  // the accelerometer is the only tilt reference until a map is registered on
+  ++stats_.restarts_at_rest;
+}
+
+void ImuFuser::add_imu_awaiting_rest(const ImuSample& sample, const HistoryEntry& previous) {
+  HistoryEntry entry = measured_entry(sample);
+  const double dt = sample.t_s - previous.t_s;
+  if (!step_attitude(madgwick_, entry, dt)) ++stats_.accel_gated;
+  entry.q_wi = madgwick_.orientation();
+  entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
+  // The velocity is unknown, so the position is held rather than carried off by a guess.
+  entry.state = previous.state;
+  entry.state.v_w.setZero();
+  entry.state.variance.setConstant(kUnknownVelocityVariance_m2_s2);
+  if (completes_still_window(sample, params_.rest_duration_s)) end_wait_at_rest(entry);
+  history_.push_back(entry);
+  trajectory_.push_back(to_trajectory_sample(entry));
+  ++stats_.samples;
+}
+
+void ImuFuser::end_wait_at_rest(HistoryEntry& entry) {
+  const double count = static_cast<double>(static_count_);
+  const Eigen::Vector3d mean_accel_i = static_accel_sum_ / count;
+  gyro_bias_ = static_gyro_sum_ / count;
+  // Still, the accelerometer points up: the smallest rotation that makes it
+  // so levels the attitude and keeps the heading.
+  const Eigen::Quaterniond level =
+      Eigen::Quaterniond::FromTwoVectors(entry.q_wi * mean_accel_i, Eigen::Vector3d::UnitZ());
+  entry.q_wi = (level * entry.q_wi).normalized();
+  madgwick_.set_orientation(entry.q_wi);
+  entry.gyro_clipped_i.setZero();
+  entry.gyro_i.setZero();
+  entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
+  entry.state.v_w.setZero();
+  entry.state.variance.setConstant(params_.initial_velocity_sigma_m_s * params_.initial_velocity_sigma_m_s);
+  entry.state.speed_unknown = {};
+  awaiting_rest_ = false;
+  static_count_ = 0;
+  static_accel_sum_.setZero();
+  static_gyro_sum_.setZero();
+  ++stats_.rests;
 }
 
 void ImuFuser::initialize(const ImuSample& last_sample) {
@@ -288,10 +355,14 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
     ++stats_.corrections_before_init;
     return result;
   }
+  if (awaiting_rest_) {
+    ++stats_.corrections_awaiting_rest;
+    return result;
+  }
   if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
     const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
                               (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m,
-                              scan.unmeasured_w};
+                              scan.unmeasured_w, scan.position_var_w_m2};
     if (!anchor_ || scan.t_start_s > anchor_->t_s) {
       previous_anchor_ = anchor_;
       anchor_ = pose;
@@ -319,7 +390,15 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   }
 
   std::optional<VelocityMeasurement> velocity;
-  if (previous_registration_) {
+  if (scan.jumped) {
+    // What the jump says the velocity may be wrong by, over the interval it closes (header, 8).
+    const double interval_s =
+        previous_registration_ ? std::max(scan.t_start_s - previous_registration_->t_s, 1e-3) : 0.1;
+    const double jump_m = (reset.p_wi - state_at(scan.t_start_s).p_w).norm();
+    reset.velocity_variance_floor_m2_s2 = (jump_m / interval_s) * (jump_m / interval_s);
+    ++stats_.jumps;
+    ++stats_.velocity_updates_skipped;
+  } else if (previous_registration_) {
     const RegisteredPose& previous = *previous_registration_;
     const double dt = scan.t_start_s - previous.t_s;
     if (dt <= 0.0 || dt > params_.max_lidar_interval_s || previous.t_s < history_.front().t_s) {
@@ -331,14 +410,22 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
       // Either end may be a prediction along its held direction: the interval
       // measures an axis only as well as both ends do (a held end that drifted
       // would otherwise pass its whole drift into the velocity at once).
-      const double variance_m2 = scan.position_sigma_m * scan.position_sigma_m + previous.sigma_m * previous.sigma_m;
+      // Each end's variance per axis is at least its scan's own there: where
+      // the prediction's prior held the pose, the interval confirms the
+      // prediction's velocity and measures little.
+      const auto end_variance_m2 = [](double sigma_m, const Eigen::Vector3d& var_w_m2) {
+        return var_w_m2.cwiseMax(sigma_m * sigma_m);
+      };
+      const Eigen::Vector3d variance_m2 =
+          end_variance_m2(scan.position_sigma_m, scan.position_var_w_m2) +
+          end_variance_m2(previous.sigma_m, previous.var_w_m2);
       const double unmeasured_m2 = params_.unmeasured_position_sigma_m * params_.unmeasured_position_sigma_m;
       const Eigen::Vector3d unmeasured_per_axis_m2 =
           unmeasured_m2 * (scan.unmeasured_w.cwiseAbs2() + previous.unmeasured_w.cwiseAbs2());
       velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
-                                     (Eigen::Vector3d::Constant(variance_m2) + unmeasured_per_axis_m2) / (dt * dt)};
+                                     (variance_m2 + unmeasured_per_axis_m2) / (dt * dt)};
       for (int i = 0; i < 3; ++i)
-        velocity->measured[static_cast<std::size_t>(i)] = unmeasured_per_axis_m2[i] <= variance_m2;
+        velocity->measured[static_cast<std::size_t>(i)] = unmeasured_per_axis_m2[i] <= variance_m2[i];
       const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
       lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
     }
@@ -347,8 +434,8 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
   repropagate(velocity, reset);
-  previous_registration_ =
-      RegisteredPose{scan.t_start_s, reset.p_wi, q_wi_registered, scan.position_sigma_m, scan.unmeasured_w};
+  previous_registration_ = RegisteredPose{scan.t_start_s,        reset.p_wi,        q_wi_registered,
+                                          scan.position_sigma_m, scan.unmeasured_w, scan.position_var_w_m2};
 
   result.pose_reset = true;
   result.velocity_updated = velocity.has_value();
@@ -441,6 +528,7 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     if (reset_pending && reset.t_s <= entry.t_s) {
       advance_to(reset.t_s);
       state.p_w = reset.p_wi;
+      state.variance = state.variance.cwiseMax(reset.velocity_variance_floor_m2_s2);
       reset_pending = false;
       if (reset.t_s < entry.t_s) {  // the registered pose itself, between two IMU samples
         HistoryEntry anchor = entry;
@@ -471,6 +559,7 @@ TrajectorySample ImuFuser::to_trajectory_sample(const HistoryEntry& entry) const
   sample.p_w = entry.state.p_w + entry.q_wi * p_il_;
   sample.v_w = entry.state.v_w + entry.q_wi * entry.gyro_i.cross(p_il_);
   sample.omega_l = q_li_ * entry.gyro_i;
+  sample.velocity_var_w_m2_s2 = entry.state.variance;
 
   const Eigen::Matrix3d r_li = q_li_.toRotationMatrix();
   const Eigen::Matrix3d r_wl = sample.q_wl.toRotationMatrix();

@@ -90,7 +90,25 @@
 //    it, the fuser starts again from the newest anchor, carried to the
 //    sample by the motion between the last two registered poses (constant
 //    velocity and body rate), instead of integrating one sample across the
-//    gap. The history starts again there.
+//    gap. The history starts again there, its velocity no better known than
+//    bridged_velocity_sigma_m_s: those registrations were not de-skewed and
+//    their velocity is a guess, which must not hold the next scans (the
+//    registration's prior follows the velocity's variance), and the next
+//    velocity measurement spans two scans the IMU covered, not an anchor.
+// 8. Jumps: a scan whose registered pose is far from the prediction (a
+//    ScanCorrection marked `jumped`) re-anchors the pose but is no velocity
+//    measurement: either the prediction or the registration is wrong, and a
+//    velocity taken across it carries the error into every later
+//    prediction, which the next scans then confirm. The velocity's
+//    variance rises to what the jump says it may be wrong by, so the next
+//    interval measures it afresh.
+// 9. Lost (restart_at_rest): a velocity carried from a runaway is what
+//    misled the registration, so it is dropped: the position is held, the
+//    attitude goes on (gyro and accelerometer), and the fuser waits for the
+//    robot to be still for rest_duration_s, as at start-up. Then the
+//    velocity is zero, the attitude is levelled again from the still
+//    accelerometer (the heading kept) and the gyro bias is the still mean;
+//    rests() counts up, which lets the registration start a new map.
 //
 // Bounded: the IMU history is a fixed ring (`history_capacity` samples, a few
 // seconds at up to 1 kHz) and so is the output trajectory. No allocation per
@@ -120,6 +138,9 @@ struct ImuFuserParams {
   Eigen::Isometry3d T_li = Eigen::Isometry3d::Identity();
 
   double static_duration_s = 1.0;
+  // The still window that ends a wait for rest after a loss (header, 9):
+  // shorter than the start-up's, so tracking resumes early in a rest.
+  double rest_duration_s = 0.5;
   double static_max_gyro_rad_s = 0.1;           // ‖ω‖ above this is motion
   double static_accel_tolerance_m_s2 = 0.5;     // ‖a − window mean‖ or |‖a‖ − 9.80665| above: motion
 
@@ -141,6 +162,8 @@ struct ImuFuserParams {
   double initial_velocity_sigma_m_s = 0.01;     // after the static period
   double max_lidar_interval_s = 0.5;            // longer scan gaps give no velocity measurement
   double max_imu_gap_s = 0.1;                   // longer sample gaps are integrated but counted
+  // The velocity after re-anchoring across an IMU gap (header, 7).
+  double bridged_velocity_sigma_m_s = 1.0;
   // A scan's position along ScanCorrection::unmeasured_w is the prediction,
   // not a measurement: the velocity measurement from it is this uncertain
   // there (per W axis, by the direction's share of it), so it neither pulls
@@ -168,6 +191,10 @@ struct ImuFuserStats {
   std::uint64_t velocity_updates_skipped = 0;    // interval too long, non-positive, or older than the history
   std::uint64_t anchors_while_imu_silent = 0;    // corrections newer than the newest sample (header, 7)
   std::uint64_t reanchors = 0;                   // restarts from an anchor after an IMU gap
+  std::uint64_t jumps = 0;                       // corrections marked jumped: no velocity measurement (header, 8)
+  std::uint64_t restarts_at_rest = 0;            // restart_at_rest() calls (header, 9)
+  std::uint64_t rests = 0;                       // still windows that ended a wait for rest
+  std::uint64_t corrections_awaiting_rest = 0;   // rejected: the fuser was waiting for rest
 };
 
 struct CorrectionResult {
@@ -183,6 +210,12 @@ struct ScanCorrection {
   double t_end_s = 0.0;    // its last point
   Eigen::Isometry3d T_wl = Eigen::Isometry3d::Identity();  // the registered lidar pose at t_start_s
   double position_sigma_m = 0.0;  // the registration's residual mapped to a pose uncertainty
+  // The scan's own position variance per W axis (its ICP covariance without
+  // the prediction's prior): the velocity measurement is no better along an
+  // axis than this, so a position the prior held is not a measured velocity.
+  Eigen::Vector3d position_var_w_m2 = Eigen::Vector3d::Zero();
+  // Far from the prediction (header, 8).
+  bool jumped = false;
   bool map_start = false;         // it started a new map: its pose is the prediction itself
   double expected_error_m = 0.0;  // ScanResult::expected_error_icp_m
   // ScanResult::expected_rotation_error_icp_rad; unset, the attitude alone never levels.
@@ -209,6 +242,10 @@ class ImuFuser {
   // its expected error is above levelling_max_expected_error_m and its
   // attitude's above levelling_max_rotation_error_rad; it re-anchors either way.
   CorrectionResult correct_with_registered_pose(const ScanCorrection& scan);
+
+  // Tracking was lost: drop the velocity and wait for rest (header, 9).
+  void restart_at_rest();
+  bool awaiting_rest() const { return awaiting_rest_; }
 
   bool initialized() const { return initialized_; }
   const Trajectory& trajectory() const { return trajectory_; }
@@ -247,13 +284,20 @@ class ImuFuser {
   };
   struct PoseReset {
     double t_s = 0.0;
+    double velocity_variance_floor_m2_s2 = 0.0;  // per W axis, from t_s on (header, 8)
     double t_scan_end_s = 0.0;
     Eigen::Quaterniond correction = Eigen::Quaterniond::Identity();  // ΔR
     Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();        // registered
     Eigen::Vector3d p_wi = Eigen::Vector3d::Zero();
   };
 
+  // Whether the sample completes a still window of `duration_s` (a moving
+  // sample restarts it).
+  bool completes_still_window(const ImuSample& sample, double duration_s);
   void accumulate_static(const ImuSample& sample);
+  // One sample while waiting for rest (header, 9).
+  void add_imu_awaiting_rest(const ImuSample& sample, const HistoryEntry& previous);
+  void end_wait_at_rest(HistoryEntry& entry);
   void reanchor(const ImuSample& sample);
   void initialize(const ImuSample& last_sample);
   Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
@@ -302,6 +346,7 @@ class ImuFuser {
     Eigen::Quaterniond q_wi = Eigen::Quaterniond::Identity();
     double sigma_m = 0.0;
     Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();  // ScanCorrection::unmeasured_w
+    Eigen::Vector3d var_w_m2 = Eigen::Vector3d::Zero();       // ScanCorrection::position_var_w_m2
   };
   std::optional<RegisteredPose> previous_registration_;
   std::optional<double> newest_levelling_s_;  // the newest registration on a map (header, 2)
@@ -309,6 +354,7 @@ class ImuFuser {
   std::optional<RegisteredPose> previous_anchor_;  // the one before it
   // Mean IMU body rate between the last two registered poses (header, 6).
   std::optional<Eigen::Vector3d> lidar_rate_i_rad_s_;
+  bool awaiting_rest_ = false;
   ImuFuserStats stats_;
 };
 

@@ -104,6 +104,8 @@ bool Odometry::process(const Scan& scan) {
                                          .t_end_s = result.t_scan_end_s,
                                          .T_wl = result.T_wl,
                                          .position_sigma_m = result.position_sigma_m,
+                                         .position_var_w_m2 = result.position_var_w_m2,
+                                         .jumped = result.jumped,
                                          .map_start = result.map_initialised,
                                          .expected_error_m = result.expected_error_icp_m,
                                          .expected_rotation_error_rad = result.expected_rotation_error_icp_rad,

@@ -179,6 +179,8 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   lap(timing.weights_s);
 
   const Eigen::Isometry3d predicted = trajectory.pose_at(t_start);
+  // The prediction is no better than the velocity that carried it (PositionUncertainty).
+  const Eigen::Vector3d velocity_var_w = trajectory.velocity_variance_at(t_start);
   result.T_wl = predicted;
   if (map_.empty()) {
     result.map_initialised = true;
@@ -201,7 +203,8 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
                               !clipped_since(trajectory, position_uncertainty_.updated_at_s());
     const Eigen::Matrix3d prior_information =
         result.prediction_prior
-            ? position_uncertainty_.prior_information(t_start, params_.confidence.covariance_scale)
+            ? position_uncertainty_.prior_information(t_start, params_.confidence.covariance_scale,
+                                                      velocity_var_w)
             : Eigen::Matrix3d::Zero();
     const IcpResult icp = icp_.align(registered_, map_, predicted, prior_information);
     result.registered = icp.matches_kept >= 6;
@@ -230,9 +233,18 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
                                 : params_.min_position_sigma_m;
+  // Calibrated (κ²): the ICP's own covariance is optimistic, most of all
+  // along a weak direction, where the fuser must not take it as measured.
+  if (!result.map_initialised && result.covariance.topLeftCorner<3, 3>().allFinite()) {
+    const double kappa = params_.confidence.covariance_scale;
+    result.position_var_w_m2 = kappa * kappa * result.covariance.topLeftCorner<3, 3>().diagonal();
+  }
   // The scan that starts a map defines it: no registration error, only the floor.
   const Matrix6d icp_covariance = result.map_initialised ? Matrix6d::Zero() : result.covariance;
   const Matrix6d icp_published = published_covariance(icp_covariance, params_.confidence);
+  // Only against a measured prediction: through clipping or without the IMU it is a guess.
+  result.jumped = result.registered && !result.map_initialised && result.prediction_prior &&
+                  position_uncertainty_.jumped(t_start, result.correction_w, icp_published.topLeftCorner<3, 3>());
   result.expected_error_icp_m = expected_position_error_m(icp_published);
   result.expected_rotation_error_icp_rad = expected_rotation_error_rad(icp_published);
   result.covariance_published = published_covariance(
@@ -252,7 +264,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   if (result.map_initialised) {
     position_uncertainty_.reset(t_start);
   } else if (!result.registered) {
-    position_uncertainty_.predict_only(t_start);
+    position_uncertainty_.predict_only(t_start, velocity_var_w);
   } else if (result.prediction_prior && !result.direction_unobserved) {
     // What a weak scan says along its weakest direction is the normals'
     // noise (the hold, icp.hpp): the prediction alone is known there, and
@@ -264,16 +276,18 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
       widen_along(measured, weakest_direction(result.degeneracy), params_.unobserved.sigma_m);
       result.weak_translation_predicted = mostly_translation(result.degeneracy.direction);
     }
-    result.covariance_published = position_uncertainty_.fuse(t_start, measured);
+    result.covariance_published = position_uncertainty_.fuse(t_start, measured, velocity_var_w);
   } else {
     // No prior, or the scan that declared a direction unobserved: published
     // as the scan says, widened there.
-    position_uncertainty_.replace_with_scan(t_start, result.covariance_published);
+    position_uncertainty_.replace_with_scan(t_start, result.covariance_published, velocity_var_w);
   }
   result.expected_error_m = expected_position_error_m(result.covariance_published);
   lap(timing.registration_s);
 
-  if (result.registered && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
+  // A jump is not in the map, whose points must stay where the scans that agree put them.
+  const bool update_map = result.registered && !result.jumped;
+  if (update_map && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
       params_.seen_through.enabled && result.expected_error_icp_m <= params_.seen_through.max_expected_error_m) {
     // Before the scan's own points go in: they lie at its beams' ends.
     // Every beam_stride-th registered point casts a beam, the others on the next scans.
@@ -294,7 +308,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.map_points_seen_through = seen_through_.remove(map_, beams_, returns_w_);
     lap(timing.seen_through_s);
   }
-  if (result.registered) {
+  if (update_map) {
     // Only points with no map point within the minimum distance can go in.
     const std::size_t candidates = map_.find_insert_candidates(reading_.points, result.T_wl, candidate_indices_);
     lap(timing.map_update_s);

@@ -119,6 +119,14 @@ struct ScanResult {
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();           // fused lidar velocity at t_scan_start_s
   Matrix6d covariance = Matrix6d::Identity();              // IcpResult::covariance
   double position_sigma_m = 0;   // what the fuser's velocity filter is told
+  // Per W axis, the ICP covariance's (the scan alone, without the prior),
+  // calibrated by κ² (registration_confidence.hpp): ScanCorrection::
+  // position_var_w_m2. Zero for the scan that starts a map.
+  Eigen::Vector3d position_var_w_m2 = Eigen::Vector3d::Zero();
+  // Registered far from the prediction (PositionUncertaintyParams::jump_sigmas):
+  // the pose is used, the map is left as it was, the velocity is not
+  // measured across it (ScanCorrection::jumped), and it is not good.
+  bool jumped = false;
   // The covariance to publish (registration_confidence.hpp: the normals'
   // noise discounted, calibrated, widened along an unobserved direction) and
   // its expected error; set once ICP has run (the first scan of a map: the

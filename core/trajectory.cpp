@@ -95,6 +95,14 @@ Eigen::Isometry3d Trajectory::pose_at(double t_s) const {
   return pose_at(t_s, hint);
 }
 
+Eigen::Vector3d Trajectory::velocity_variance_at(double t_s) const {
+  if (empty()) throw std::logic_error("Trajectory::velocity_variance_at: empty trajectory");
+  if (size() == 1 || t_s <= front().t_s) return front().velocity_var_w_m2_s2;
+  std::size_t hint = 0;
+  const std::size_t i = locate(t_s, hint);
+  return (t_s >= ring_[i + 1].sample.t_s ? ring_[i + 1] : ring_[i]).sample.velocity_var_w_m2_s2;
+}
+
 Eigen::Isometry3d Trajectory::pose_at(double t_s, std::size_t& hint) const {
   if (empty()) throw std::logic_error("Trajectory::pose_at: the trajectory is empty");
   if (t_s <= front().t_s) return extrapolate(front(), t_s - front().t_s);

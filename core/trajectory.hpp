@@ -49,6 +49,9 @@ struct TrajectorySample {
   Eigen::Vector3d p_w = Eigen::Vector3d::Zero();             // lidar origin in W
   Eigen::Vector3d v_w = Eigen::Vector3d::Zero();             // velocity of the lidar origin, in W
   Eigen::Vector3d omega_l = Eigen::Vector3d::Zero();         // angular velocity, lidar frame (rad/s)
+  // The variance of v_w per W axis as the fuser had it at this sample ((m/s)²;
+  // zero where nothing estimated it, as in a prediction).
+  Eigen::Vector3d velocity_var_w_m2_s2 = Eigen::Vector3d::Zero();
   // Clipping that touches lidar axis k (union of the two below).
   std::array<bool, 3> saturated{};
   // A clipped gyro axis couples into lidar axis k: ω_k is not known.
@@ -89,6 +92,8 @@ class Trajectory {
 
   // T_WL(t). Throws std::logic_error when empty (as do all queries).
   Eigen::Isometry3d pose_at(double t_s) const;
+  // The velocity variance of the newest sample at or before t (the first's before it).
+  Eigen::Vector3d velocity_variance_at(double t_s) const;
   // T_WL(t_from)⁻¹ · T_WL(t_to): the motion between two times, which is all
   // de-skewing and the registration's initial guess need.
   Eigen::Isometry3d relative_pose(double t_from_s, double t_to_s) const;

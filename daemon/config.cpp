@@ -101,6 +101,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("levelling_max_expected_error_m", f.levelling_max_expected_error_m, Range{0.0, 10.0});
     v.field("levelling_max_rotation_error_deg", f.levelling_max_rotation_error_deg, Range{0.0, 180.0});
     v.field("init_static_s", f.init_static_s, Range{0.0, 60.0});
+    v.field("rest_static_s", f.rest_static_s, Range{0.0, 60.0});
     v.field("attitude_source", f.attitude_source, Choice<AttitudeSource>{kAttitudeSources});
   });
   v.section("registration", [&] {
@@ -129,6 +130,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("unobserved_sigma_m", r.unobserved_sigma_m, Range{0.001, 1000.0});
     v.field("hold_weak_translation", r.hold_weak_translation, AnyText{});
     v.field("prediction_sigma_m", r.prediction_sigma_m, Range{0.0, 10.0});
+    v.field("jump_sigmas", r.jump_sigmas, Range{0.0, 1000.0});
     v.field("sigma_n_floor_m", r.sigma_n_floor_m, Range{0.0, 1.0});
     v.field("sigma_n_beam_rad", r.sigma_n_beam_rad, Range{0.0, 0.1});
     v.field("tw_c1_m_s", r.tw_c1_m_s, Range{0.0, 100.0});

@@ -73,6 +73,7 @@ struct FuserConfig {
   double levelling_max_expected_error_m = 0.024;
   double levelling_max_rotation_error_deg = 0.15;
   double init_static_s = 1.0;
+  double rest_static_s = 0.5;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;
 };
@@ -102,6 +103,7 @@ struct RegistrationConfig {
   double unobserved_sigma_m = 1.0;
   bool hold_weak_translation = true;
   double prediction_sigma_m = 0.02;
+  double jump_sigmas = 5.0;
   double sigma_n_floor_m = 0.02;
   double sigma_n_beam_rad = 0.0015;
   double tw_c1_m_s = 0.25;

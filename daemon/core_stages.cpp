@@ -36,6 +36,19 @@ Eigen::Vector3d velocity_at(std::span<const TrajectoryRecord> trajectory, double
   return (1 - f) * v(a) + f * v(b);
 }
 
+// The newest record at or before t_s (the first when none is).
+const TrajectoryRecord& record_at(std::span<const TrajectoryRecord> trajectory, double t_s) {
+  const auto after = std::upper_bound(trajectory.begin(), trajectory.end(), t_s,
+                                      [](double t, const TrajectoryRecord& r) { return t < r.t_s; });
+  return after == trajectory.begin() ? trajectory.front() : *(after - 1);
+}
+
+// A loss of track whose cause may be the fuser's velocity: the fuser drops
+// it and waits for the robot to rest (ImuFuser::restart_at_rest).
+bool restarts_at_rest(TrackingLoss reason) {
+  return reason == TrackingLoss::NotRegistered || reason == TrackingLoss::DisagreesWithImu;
+}
+
 // Predicting from the registrations needs the newest to be this recent.
 constexpr double kMaxPredictionAge_s = 0.5;
 // A lidar gap (10 Hz scans) this long: the next scans are checked against the IMU.
@@ -83,6 +96,7 @@ TrajectoryRecord to_record(const TrajectorySample& s) {
   r.p_w_m = {s.p_w.x(), s.p_w.y(), s.p_w.z()};
   r.v_w_m_s = {s.v_w.x(), s.v_w.y(), s.v_w.z()};
   r.omega_l_rad_s = {s.omega_l.x(), s.omega_l.y(), s.omega_l.z()};
+  r.velocity_var_m2_s2 = {s.velocity_var_w_m2_s2.x(), s.velocity_var_w_m2_s2.y(), s.velocity_var_w_m2_s2.z()};
   r.gyro_saturated_axes = to_bits(s.gyro_saturated);
   r.accel_saturated_axes = to_bits(s.accel_saturated);
   return r;
@@ -95,6 +109,7 @@ TrajectorySample to_sample(const TrajectoryRecord& r) {
   s.p_w = Eigen::Vector3d(r.p_w_m[0], r.p_w_m[1], r.p_w_m[2]);
   s.v_w = Eigen::Vector3d(r.v_w_m_s[0], r.v_w_m_s[1], r.v_w_m_s[2]);
   s.omega_l = Eigen::Vector3d(r.omega_l_rad_s[0], r.omega_l_rad_s[1], r.omega_l_rad_s[2]);
+  s.velocity_var_w_m2_s2 = Eigen::Vector3d(r.velocity_var_m2_s2.data());
   s.gyro_saturated = from_bits(r.gyro_saturated_axes);
   s.accel_saturated = from_bits(r.accel_saturated_axes);
   for (std::size_t k = 0; k < 3; ++k) s.saturated[k] = s.gyro_saturated[k] || s.accel_saturated[k];
@@ -110,13 +125,13 @@ CoreFuserStage::CoreFuserStage(const OdometryParams& params) : params_(params), 
 
 TrajectoryRecord CoreFuserStage::record_of(const TrajectorySample& sample) const {
   TrajectoryRecord r = to_record(sample);
-  const Eigen::Vector3d velocity_var = fuser_.velocity_variance();
-  r.velocity_var_m2_s2 = {velocity_var.x(), velocity_var.y(), velocity_var.z()};
   r.position_var_m2 = position_var_m2_;
   r.lidar_corrected = fuser_.stats().velocity_updates > 0;
   r.attitude_from_device = params_.fuser.attitude_from_device;
   r.resets = resets_;
   r.imu_bridged = fuser_.stats().reanchors > reanchors_corrected_;
+  r.awaiting_rest = fuser_.awaiting_rest();
+  r.rests = static_cast<std::uint32_t>(fuser_.stats().rests);
   return r;
 }
 
@@ -132,6 +147,7 @@ bool CoreFuserStage::add_imu(const ImuSample& sample, TrajectoryRecord& out) {
 
 void CoreFuserStage::add_correction(const RegistrationRecord& registration,
                                     const std::function<void(const TrajectoryRecord&)>& republish) {
+  if (registration.resets > resets_ && restarts_at_rest(registration.reset_reason)) fuser_.restart_at_rest();
   resets_ = registration.resets;
   if (!registration.registered || !fuser_.initialized()) return;
   // The registered pose's published covariance: it grows where the scan hardly constrains the pose.
@@ -140,6 +156,8 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   ScanCorrection scan{.t_start_s = registration.t_s,
                       .t_end_s = registration.t_end_s,
                       .position_sigma_m = registration.position_sigma_m,
+                      .position_var_w_m2 = Eigen::Vector3d(registration.position_var_w_m2.data()),
+                      .jumped = registration.jumped,
                       .map_start = registration.map_initialised,
                       .expected_error_m = registration.expected_error_icp_m,
                       .expected_rotation_error_rad = registration.expected_rotation_error_icp_rad,
@@ -299,6 +317,18 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     result_.points_in = held_.points.size();
     fill_record(result_, trajectory, out);
   };
+  // After a loss of track the fuser drops its velocity and waits for the
+  // robot to rest; a new map started before then would be built on the
+  // velocity that misled the last one.
+  if (rests_before_loss_) {
+    const TrajectoryRecord& at_start = record_at(trajectory, out.t_s);
+    if (at_start.awaiting_rest || at_start.rests <= *rests_before_loss_) {
+      report_unregistered();
+      out.awaiting_rest = true;
+      return;
+    }
+    rests_before_loss_.reset();
+  }
   // The first map starts only from a scan the gyro measured whole. A clipped
   // axis is a lower bound, and until a scan has registered on a map the
   // fuser has no lidar rate to stand in for it: the first scan would be
@@ -320,6 +350,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
       return;
   }
   keep_track(result_);
+  if (resets_ > out.resets && restarts_at_rest(reset_reason_)) rests_before_loss_ = trajectory.back().rests;
   out.resets = resets_;
   out.reset_reason = reset_reason_;
   out.untrusted = result_.rejected;
@@ -405,6 +436,8 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.map_initialised = result.map_initialised;
   out.converged = result.converged;
   out.position_sigma_m = result.position_sigma_m;
+  for (int i = 0; i < 3; ++i) out.position_var_w_m2[static_cast<std::size_t>(i)] = result.position_var_w_m2[i];
+  out.jumped = result.jumped;
   for (int i = 0; i < 3; ++i)
     out.held_translation_w[static_cast<std::size_t>(i)] = static_cast<float>(result.held_translation_w[i]);
   out.prediction_prior = result.prediction_prior;

@@ -68,6 +68,10 @@ class CoreFuserStage : public FuserStage {
 //   stage gives up its local map (a reset, counted, with its reason); the next
 //   scan starts a new one at the fuser's pose, which continues the last one
 //   published.
+// - Lost for a reason the fuser's velocity may cause (scans not registered,
+//   or disagreeing with the IMU): the fuser drops its velocity and waits for
+//   the robot to rest (ImuFuser::restart_at_rest); until then scans are not
+//   registered (`awaiting_rest`), and the new map starts after the rest.
 // - Gyro clipped about the lidar's spin axis during the scan: the scan is
 //   registered as usual (the fuser takes that rate from the registrations,
 //   core/imu_fuser.hpp 6), but flagged `spin_rate_unmeasured`: that
@@ -130,6 +134,9 @@ class CoreRegistrationStage : public RegistrationStage {
   bool registered_on_a_map_ = false;  // since then the fuser has a lidar rate for clipped axes
   std::int32_t resets_ = 0;
   TrackingLoss reset_reason_ = TrackingLoss::None;
+  // Set by a loss of track that restarts the fuser at rest: the fuser's rest
+  // count then. No new map until the trajectory shows a later rest.
+  std::optional<std::uint32_t> rests_before_loss_;
 };
 
 }  // namespace tumble::daemon

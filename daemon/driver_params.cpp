@@ -47,6 +47,7 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.icp.hold_weak_translation_share = r.hold_weak_translation ? r.unobserved_min_eigenvalue : 0.0;
   p.fuser.unmeasured_position_sigma_m = r.unobserved_sigma_m;
   p.position.prediction_sigma_m = r.prediction_sigma_m;
+  p.position.jump_sigmas = r.jump_sigmas;
 
   p.weights.model = r.model;
   p.weights.tw_c1_m_s = r.tw_c1_m_s;
@@ -68,6 +69,7 @@ OdometryParams odometry_params(const DaemonConfig& config) {
 
   p.fuser.T_li = extrinsic_T_LI(config.imu.extrinsic_T_LI);
   p.fuser.static_duration_s = config.fuser.init_static_s;
+  p.fuser.rest_duration_s = config.fuser.rest_static_s;
   p.fuser.madgwick.beta = config.fuser.madgwick_beta;
   p.fuser.madgwick.accel_gate_m_s2 = config.fuser.accel_gate_m_s2;
   p.fuser.accel_correction_after_s = config.fuser.accel_correction_after_s;

@@ -35,6 +35,15 @@ constexpr std::string_view kDirectionUnobserved =
     "direction unobserved: most recent scans leave one direction unpinned (a corridor's axis?); "
     "the pose along it is not measured";
 
+constexpr std::string_view kImuBridged =
+    "registered without IMU data: de-skewed and predicted from the registrations alone";
+
+constexpr std::string_view kJumped =
+    "registration jumped from the IMU's prediction (registration.jump_sigmas): the prediction or the scan is wrong";
+
+constexpr std::string_view kAwaitingRest =
+    "tracking lost: waiting for the robot to be still to start again from zero velocity";
+
 std::string_view reason_of(ScanVerdict verdict) {
   switch (verdict) {
     case ScanVerdict::Good:
@@ -49,6 +58,12 @@ std::string_view reason_of(ScanVerdict verdict) {
       return kSpinRateUnmeasured;
     case ScanVerdict::MapDeferred:
       return kMapDeferred;
+    case ScanVerdict::ImuBridged:
+      return kImuBridged;
+    case ScanVerdict::Jumped:
+      return kJumped;
+    case ScanVerdict::AwaitingRest:
+      return kAwaitingRest;
   }
   return {};
 }
@@ -100,6 +115,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       if (!fresh) break;
       if (in.new_map_since_lost) return {S::Initialising, "re-initialised: new local map"};
       if (in.worst_scan_in_period == ScanVerdict::MapDeferred) return {S::Lost, kMapDeferred};
+      if (in.worst_scan_in_period == ScanVerdict::AwaitingRest) return {S::Lost, kAwaitingRest};
       if (!in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
         return {S::Tracking, "registration good again"};
       break;

@@ -12,6 +12,9 @@
 //   INITIALISING, TRACKING, DEGRADED --the registration gave up its local map
 //              (a reset, with its reason)--> LOST
 //   LOST --sensors fresh and a new local map started since--> INITIALISING
+//              (after a loss of track the new map waits for the robot to
+//              rest: the fuser starts again from zero velocity there, and
+//              the state stays LOST, saying so, until then)
 //   LOST --sensors fresh, nothing dropped, good_scans_to_recover
 //              consecutive good scans (the map was kept)--> TRACKING
 //   TRACKING, DEGRADED, LOST --fuser no longer initialised--> INITIALISING
@@ -22,6 +25,7 @@
 // was kept can be tracked against again.
 // "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
+// not a jump from the prediction (registration.jump_sigmas), the IMU over the scan,
 // where the gyro was clipped about the lidar's spin axis past the spin's first spin_clipped_scans_to_settle scans
 // and matched ratio >= min_matched_ratio_spin_clipped, no direction unobserved
 // (core/unobserved_direction.hpp), and the expected error of the registered
@@ -44,6 +48,9 @@ enum class ScanVerdict : std::int8_t {
   DirectionUnobserved = 3, // a direction the recent scans have not pinned (a corridor's axis)
   SpinRateUnmeasured = 4,  // gyro clipped about the lidar's spin axis: a new spin, or matched too little
   MapDeferred = 5,         // no local map, and the gyro clipped: waiting for a scan that can start one
+  ImuBridged = 6,          // registered without IMU data over the scan: its motion is the registrations' guess
+  Jumped = 7,              // registered farther from the prediction than both can be wrong (registration.jump_sigmas)
+  AwaitingRest = 8,        // lost: waiting for the robot to rest before a new map starts from zero velocity
 };
 
 // Values equal tumble::status_t::STATE_*.

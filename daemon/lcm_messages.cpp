@@ -26,6 +26,7 @@ void to_lcm(const TrajectoryRecord& s, std::int64_t seq, float latency_ms, tumbl
   if (s.accel_saturated_axes != 0) flags |= tumble::odometry_t::FLAG_ACCEL_SATURATED;
   if (s.attitude_from_device) flags |= tumble::odometry_t::FLAG_ATTITUDE_FROM_DEVICE;
   if (s.imu_bridged) flags |= tumble::odometry_t::FLAG_IMU_BRIDGED;
+  if (s.awaiting_rest) flags |= tumble::odometry_t::FLAG_AWAITING_REST;
   out.flags = flags;
   out.resets = s.resets;
 }
@@ -57,6 +58,8 @@ void to_lcm(const RegistrationRecord& r, const std::vector<std::string>& stage_n
   out.map_deferred = r.map_deferred;
   out.direction_unobserved = r.direction_unobserved;
   out.expected_error_icp_m = r.expected_error_icp_m;
+  out.jumped = r.jumped;
+  out.awaiting_rest = r.awaiting_rest;
   out.expected_error_m = r.expected_error_m;
   const std::size_t stages = std::min<std::size_t>({r.num_stages, stage_names.size(), RegistrationRecord::kMaxStages});
   out.num_stages = static_cast<std::int16_t>(stages);

@@ -475,6 +475,8 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
   counters_.resets.store(registration_out_.resets, std::memory_order_relaxed);
   if (registration_out_.imu_bridged) counters_.scans_imu_bridged.fetch_add(1, std::memory_order_relaxed);
   if (registration_out_.untrusted) counters_.scans_untrusted.fetch_add(1, std::memory_order_relaxed);
+  if (registration_out_.jumped) counters_.scans_jumped.fetch_add(1, std::memory_order_relaxed);
+  if (registration_out_.awaiting_rest) counters_.scans_awaiting_rest.fetch_add(1, std::memory_order_relaxed);
   if (registration_out_.map_deferred) {
     counters_.scans_map_deferred.fetch_add(1, std::memory_order_relaxed);
   } else if (registration_out_.spin_rate_unmeasured) {  // counted among the registered

@@ -41,6 +41,10 @@ struct TrajectoryRecord {
   std::int64_t imu_arrival_steady_ns = 0;  // ImuArrival::arrival_steady_ns of the sample; 0: unknown
   std::int32_t resets = 0;                 // odometry re-initialisations the fuser has seen
   bool imu_bridged = false;                // re-anchored on registered poses after an IMU gap, not yet corrected
+  // Tracking was lost and the fuser waits for the robot to rest: the velocity
+  // is unknown and the position held (ImuFuser::restart_at_rest).
+  bool awaiting_rest = false;
+  std::uint32_t rests = 0;  // waits for rest that ended (ImuFuserStats::rests)
 };
 
 using tumble::WeightModel;
@@ -85,6 +89,12 @@ struct RegistrationRecord {
   bool map_initialised = false;  // the scan that started the map
   bool converged = false;
   double position_sigma_m = 0.0;  // for the fuser's velocity filter
+  std::array<double, 3> position_var_w_m2{};  // ScanResult::position_var_w_m2: the scan's own, for the fuser
+  // ScanResult::jumped: far from the prediction, so neither good nor a velocity measurement.
+  bool jumped = false;
+  // Tracking was lost and the fuser has not yet found the robot at rest: not
+  // registered, no new map yet (core_stages.cpp).
+  bool awaiting_rest = false;
   std::array<float, 3> held_translation_w{};  // ScanResult::held_translation_w: unmeasured by this scan
   bool prediction_prior = false;              // ScanResult::prediction_prior
   bool weak_translation_predicted = false;    // ScanResult::weak_translation_predicted

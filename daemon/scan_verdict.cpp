@@ -3,7 +3,14 @@
 namespace tumble::daemon {
 
 ScanVerdict scan_verdict(const RegistrationRecord& r, const HealthConfig& health) {
+  if (r.awaiting_rest) return ScanVerdict::AwaitingRest;
   if (r.map_deferred) return ScanVerdict::MapDeferred;
+  // Far from a measured prediction: one of the two is wrong, and a scan
+  // that agrees with the jump is no proof of which.
+  if (r.jumped) return ScanVerdict::Jumped;
+  // Through an IMU gap the scan's motion and the next prediction are the
+  // registrations' own: a scan that agrees with them confirms nothing.
+  if (r.imu_bridged) return ScanVerdict::ImuBridged;
   // With the gyro clipped about the spin axis the rotation there is the
   // registration's alone, and the fuser's rate for it is the registrations'
   // at constant velocity: wrong while the spin still rises (bench 10-11 rad/s

@@ -196,6 +196,8 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.scans_untrusted = load(c.scans_untrusted);
   out.scans_spin_rate_unmeasured = load(c.scans_spin_rate_unmeasured);
   out.scans_map_deferred = load(c.scans_map_deferred);
+  out.scans_jumped = load(c.scans_jumped);
+  out.scans_awaiting_rest = load(c.scans_awaiting_rest);
   out.scans_weakly_constrained = load(c.scans_weakly_constrained);
   out.expected_error_max_m = expected_error_max_m_;
   expected_error_max_m_ = 0.0f;

@@ -46,6 +46,8 @@ struct PipelineCounters {
   std::atomic<std::int64_t> scans_untrusted{0};         // too far from the IMU prediction: not used
   std::atomic<std::int64_t> scans_spin_rate_unmeasured{0};  // gyro clipped about the lidar's spin axis
   std::atomic<std::int64_t> scans_map_deferred{0};          // no local map, gyro clipped: not registered
+  std::atomic<std::int64_t> scans_jumped{0};                // registered far from the prediction
+  std::atomic<std::int64_t> scans_awaiting_rest{0};         // lost, waiting for rest: not registered
   std::atomic<std::int64_t> scans_weakly_constrained{0};    // expected error above daemon.health.max_expected_error_m
   std::atomic<std::int64_t> resets{0};                  // local maps given up
   // (scan assembly, on the registration thread)

@@ -26,10 +26,11 @@ faults=(
   "lidar restart: silent 3 s at 4 s|--lidar-gap 4,3"
   "IMU silent 0.2 s at 4 s|--imu-gap 4,0.2"
   "IMU silent 1 s at 4 s|--imu-gap 4,1"
+  "IMU silent 1 s at 3 s|--imu-gap 3,1"
 )
 
-echo "| fault | run | final error | states and warnings (data time) |"
-echo "|---|---|---|---|"
+echo "| fault | run | final error | runaway while good | states and warnings (data time) |"
+echo "|---|---|---|---|---|"
 for entry in "${faults[@]}"; do
   name=${entry%%|*} options=${entry#*|}
   for run in "$@"; do
@@ -38,9 +39,11 @@ for entry in "${faults[@]}"; do
     # shellcheck disable=SC2086  # options are words
     "$sim" faults "$run" "$dir" --seed 1 $options > /dev/null
     "$tumbled" --replay "$dir/lidar.pcap" "$dir/imu.pcap" --rate max --lcm-url memq:// \
-      --trajectory-out "$dir/trajectory.tum" > "$dir/tumbled.log" 2>&1 || true
-    error=$("$eval" score "$dir/ground_truth.tum" "$dir/trajectory.tum" 2>&1 |
-            sed -n 's/.*final pose: .*→ \*\*\([0-9.]* cm\/m\)\*\*.*/\1/p' | head -1)
+      --trajectory-out "$dir/trajectory.tum" --scan-log "$dir/scans.csv" > "$dir/tumbled.log" 2>&1 || true
+    score=$("$eval" score "$dir/ground_truth.tum" "$dir/trajectory.tum" --scan-log "$dir/scans.csv" 2>&1 || true)
+    error=$(echo "$score" | sed -n 's/.*final pose: .*→ \*\*\([0-9.]* cm\/m\)\*\*.*/\1/p' | head -1)
+    # The largest rise of the position error within a stretch of good scans (tumble-eval score).
+    runaway=$(echo "$score" | sed -n 's/^- \([0-9.]* m\) over .*/\1/p' | head -1)
     # The state changes after start-up (a good-scan count flickering between
     # tracking and degraded left out) and how many warnings named a fault.
     states=$(grep -E 'state [a-z_]+( -> [a-z_]+)?: ' "$dir/tumbled.log" |
@@ -49,6 +52,6 @@ for entry in "${faults[@]}"; do
              paste -sd ';' | sed 's/;/; /g' || true)
     warnings=$(grep -v 'state ' "$dir/tumbled.log" | grep -c '\[warning\]' || true)
     seen="${states:-no state change}; $warnings other warnings"
-    echo "| $name | $(basename "$run") | ${error:-none} | ${seen:-–} |"
+    echo "| $name | $(basename "$run") | ${error:-none} | ${runaway:-–} | ${seen:-–} |"
   done
 done

@@ -2,7 +2,8 @@
 // initialisation, the lever arm, the velocity filter (tracking a perfect lidar,
 // removing a bias drift, applying the mean velocity at the mid-interval time),
 // the pose correction, a translation the registration held, saturation flags,
-// clipped gyro axes and the bounded buffers.
+// clipped gyro axes, the bounded buffers, IMU gaps, jumps and the restart
+// at rest after a loss of track.
 #include "core/imu_fuser.hpp"
 
 #include <gtest/gtest.h>
@@ -78,6 +79,8 @@ CorrectionResult correct_scan(ImuFuser& fuser, double t_scan_s, const Eigen::Iso
                                              .expected_error_m = expected_error_m,
                                              .expected_rotation_error_rad = expected_rotation_error_rad});
 }
+
+Eigen::Isometry3d at_pose(const Truth& truth, double t) { return pose_of(truth.q_wi(t), truth.p_w(t)); }
 
 // Index of the last trajectory sample at or before t.
 std::size_t sample_before(const Trajectory& trajectory, double t) {
@@ -417,16 +420,21 @@ TEST(ImuFuser, LidarMeanVelocityIsAppliedAtTheMidIntervalTime) {
   EXPECT_NEAR(trajectory.back().v_w.x(), truth.v_w(trajectory.back().t_s).x(), 1e-6);
 }
 
-TEST(ImuFuser, AScanThatHeldATranslationDoesNotMeasureTheVelocityAlongIt) {
-  // At rest, but the accelerometer reads 0.5 m/s² too much along x and y for
-  // a second: the filter believes 0.5 m/s along both. The next scan held its
-  // translation along x at the prediction (a corridor's axis), so its
-  // velocity measurement says nothing there.
+// At rest, but the accelerometer reads 0.5 m/s² too much along x and y for
+// a second from kMotionStart: the filter believes 0.5 m/s along both.
+Truth at_rest_with_a_second_of_accel_bias() {
   Truth truth;
   truth.accel_bias = [](double t) {
     const double tau = t - kMotionStart;
     return tau > 0.0 && tau <= 1.0 ? Eigen::Vector3d(0.5, 0.5, 0.0) : Eigen::Vector3d::Zero();
   };
+  return truth;
+}
+
+TEST(ImuFuser, AScanThatHeldATranslationDoesNotMeasureTheVelocityAlongIt) {
+  // The next scan held its translation along x at the prediction (a
+  // corridor's axis), so its velocity measurement says nothing there.
+  const Truth truth = at_rest_with_a_second_of_accel_bias();
   ImuFuser fuser(device_attitude_params());
   const double t_previous = kMotionStart + 1.203;
   const double t_scan = t_previous + 0.1;
@@ -743,6 +751,108 @@ TEST(ImuFuser, StartsAgainFromTheRegisteredPosesAfterAnImuGap) {
   EXPECT_NEAR(s.p_w.x(), 1.2, 1e-9);         // carried on at the registrations' velocity
   EXPECT_NEAR(s.v_w.x(), 1.0, 1e-9);
   EXPECT_NEAR(Eigen::AngleAxisd(s.q_wl).angle(), 0.2, 1e-9);  // and body rate
+  // Those registrations were not de-skewed: their velocity is a guess.
+  const double bridged = ImuFuserParams{}.bridged_velocity_sigma_m_s;
+  EXPECT_GE(fuser.velocity_variance().minCoeff(), bridged * bridged);
+}
+
+TEST(ImuFuser, ScansAlongAnAxisTheyPinWeaklyMeasureLittleOfTheVelocityThere) {
+  // As AScanThatHeldATranslationDoesNotMeasureTheVelocityAlongIt, but the
+  // scan's own covariance is wide along x: its position there is the prior's.
+  const Truth truth = at_rest_with_a_second_of_accel_bias();
+  ImuFuser fuser(device_attitude_params());
+  const double t_previous = kMotionStart + 1.203;
+  const double t_scan = t_previous + 0.1;
+  const Eigen::Isometry3d at_rest = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero());
+  const Eigen::Vector3d wide_along_x(1.0, 1e-6, 1e-6);  // (1 m)² along x
+  feed(fuser, truth, 0, 255);
+  fuser.correct_with_registered_pose({.t_start_s = t_previous,
+                                      .t_end_s = t_previous + kScanS,
+                                      .T_wl = at_rest,
+                                      .position_sigma_m = 1e-3,
+                                      .position_var_w_m2 = wide_along_x});
+  feed(fuser, truth, 256, 265);
+  const Eigen::Vector3d v_before = fuser.trajectory().back().v_w;
+  ASSERT_GT(v_before.x(), 0.4);
+  ASSERT_GT(v_before.y(), 0.4);
+  fuser.correct_with_registered_pose({.t_start_s = t_scan,
+                                      .t_end_s = t_scan + kScanS,
+                                      .T_wl = at_rest,
+                                      .position_sigma_m = 1e-3,
+                                      .position_var_w_m2 = wide_along_x});
+  const Eigen::Vector3d v_after = fuser.trajectory().back().v_w;
+  EXPECT_NEAR(v_after.y(), 0.0, 1e-2);         // pinned: corrected
+  EXPECT_GT(v_after.x(), 0.9 * v_before.x());  // wide: hardly moved
+}
+
+TEST(ImuFuser, AJumpReanchorsThePoseButIsNoVelocityMeasurement) {
+  Truth truth;
+  ImuFuser fuser(device_attitude_params());
+  feed(fuser, truth, 0, 250);
+  const Eigen::Isometry3d at_rest = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d::Zero());
+  correct_scan(fuser, sample_time(230), at_rest, 0.01);
+  const Eigen::Isometry3d far = pose_of(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.5, 0.0, 0.0));
+  const CorrectionResult result = fuser.correct_with_registered_pose({.t_start_s = sample_time(240),
+                                                                      .t_end_s = sample_time(240) + kScanS,
+                                                                      .T_wl = far,
+                                                                      .position_sigma_m = 0.01,
+                                                                      .jumped = true});
+  EXPECT_TRUE(result.pose_reset);
+  EXPECT_FALSE(result.velocity_updated);
+  EXPECT_EQ(fuser.stats().jumps, 1u);
+  EXPECT_NEAR(fuser.trajectory().back().p_w.x(), 0.5, 1e-6);  // the pose is the registration's
+  EXPECT_NEAR(fuser.trajectory().back().v_w.x(), 0.0, 1e-6);  // the velocity is not 5 m/s
+  // As uncertain as the jump says: 0.5 m over the 0.1 s interval.
+  EXPECT_GE(fuser.velocity_variance().minCoeff(), 25.0 - 1e-6);
+}
+
+TEST(ImuFuser, AfterALossItHoldsThePositionUntilTheRobotRestsThenStartsFromZeroVelocity) {
+  // Moving at 1 m/s along x and turning at 0.3 rad/s with the velocity
+  // measured, then lost. (The turn is what tells the IMU it is not still:
+  // a constant velocity alone would look like rest.)
+  constexpr double kYawRate = 0.3;
+  Truth truth;
+  truth.p_w = [](double t) { return Eigen::Vector3d(std::max(t - kMotionStart, 0.0), 0.0, 0.0); };
+  truth.v_w = [](double t) { return Eigen::Vector3d(t > kMotionStart ? 1.0 : 0.0, 0.0, 0.0); };
+  truth.q_wi = [](double t) {
+    return Eigen::Quaterniond(Eigen::AngleAxisd(kYawRate * std::max(t - kMotionStart, 0.0), Eigen::Vector3d::UnitZ()));
+  };
+  truth.omega_i = [](double t) { return Eigen::Vector3d(0.0, 0.0, t > kMotionStart ? kYawRate : 0.0); };
+  ImuFuserParams params = device_attitude_params();
+  params.attitude_from_device = false;
+  ImuFuser fuser(params);
+  feed(fuser, truth, 0, 200);
+  ASSERT_TRUE(fuser.initialized());
+  for (int n = 210; n <= 300; n += 10) {
+    feed(fuser, truth, n - 9, n);
+    correct_scan(fuser, sample_time(n - 5), at_pose(truth, sample_time(n - 5)), 0.01);
+  }
+  ASSERT_GT(fuser.trajectory().back().v_w.x(), 0.8);  // the velocity it had, to be dropped
+  fuser.restart_at_rest();
+  EXPECT_TRUE(fuser.awaiting_rest());
+  const double held_x = fuser.trajectory().back().p_w.x();
+  feed(fuser, truth, 301, 400);  // still moving: the position is held, the velocity unknown
+  EXPECT_TRUE(fuser.awaiting_rest());
+  EXPECT_EQ(fuser.trajectory().back().p_w.x(), held_x);
+  EXPECT_EQ(fuser.trajectory().back().v_w.x(), 0.0);
+  EXPECT_GE(fuser.velocity_variance().minCoeff(), 1.0);
+  const CorrectionResult ignored = correct_scan(fuser, sample_time(395), at_pose(truth, sample_time(395)), 0.01);
+  EXPECT_FALSE(ignored.pose_reset);
+  EXPECT_EQ(fuser.stats().corrections_awaiting_rest, 1u);
+  // The robot stops: a static window later the fuser starts again from rest.
+  const Eigen::Quaterniond q_stop = truth.q_wi(sample_time(400));
+  Truth stopped;
+  stopped.p_w = [&](double) { return truth.p_w(sample_time(400)); };
+  stopped.q_wi = [&](double) { return q_stop; };
+  feed(fuser, stopped, 401, 430);
+  EXPECT_TRUE(fuser.awaiting_rest());  // not yet rest_duration_s
+  feed(fuser, stopped, 431, 520);
+  EXPECT_FALSE(fuser.awaiting_rest());
+  EXPECT_EQ(fuser.stats().rests, 1u);
+  EXPECT_NEAR(fuser.trajectory().back().v_w.x(), 0.0, 1e-6);
+  // Known again: the start's variance plus the process noise since the rest (under 1 s), not the wait's 100.
+  EXPECT_LT(fuser.velocity_variance().maxCoeff(), 0.02);
+  EXPECT_TRUE(correct_scan(fuser, sample_time(515), at_pose(stopped, sample_time(515)), 0.01).pose_reset);
 }
 
 }  // namespace

@@ -85,6 +85,38 @@ TEST(PositionUncertainty, ThePriorInformationIsInTheUnitsOfTheUncalibratedCovari
   EXPECT_TRUE(off.prior_information(0.1, 3.2).isZero());
 }
 
+TEST(PositionUncertainty, ThePredictionIsNoBetterThanTheFusersVelocity) {
+  PositionUncertainty position = uncertainty();
+  position.reset(0.0);
+  // 0.5 m/s of velocity uncertainty along y over one 0.1 s interval: 5 cm more there.
+  const Eigen::Vector3d velocity_var(0.0, 0.25, 0.0);
+  const Eigen::Matrix3d predicted = position.predicted(0.1, velocity_var);
+  EXPECT_NEAR(predicted(0, 0), kVar, 1e-12);
+  EXPECT_NEAR(predicted(1, 1), kVar + 0.0025, 1e-12);
+  // Over two intervals, twice the distance.
+  EXPECT_NEAR(position.predicted(0.2, velocity_var)(1, 1), 4 * kVar + 4 * 0.0025, 1e-12);
+  EXPECT_LT(position.prior_information(0.1, 1.0, velocity_var)(1, 1), 0.2 / kVar);
+  // A velocity variance that is not finite adds nothing rather than NaN.
+  EXPECT_TRUE(position.predicted(0.1, Eigen::Vector3d::Constant(std::nan(""))).allFinite());
+}
+
+TEST(PositionUncertainty, AJumpIsACorrectionManySigmaOfBothThePredictionAndTheScan) {
+  PositionUncertainty position(
+      PositionUncertaintyParams{.prediction_sigma_m = kSigma, .scan_interval_s = 0.1, .jump_sigmas = 5.0});
+  position.reset(0.0);
+  const Eigen::Matrix3d scan = Eigen::Matrix3d::Identity() * 1e-6;
+  EXPECT_FALSE(position.jumped(0.1, Eigen::Vector3d(0.09, 0.0, 0.0), scan));  // 4.5 σ
+  EXPECT_TRUE(position.jumped(0.1, Eigen::Vector3d(0.11, 0.0, 0.0), scan));   // 5.5 σ
+  // Where the scan itself is uncertain, the same correction is no jump.
+  Eigen::Matrix3d weak_x = scan;
+  weak_x(0, 0) = 0.05 * 0.05;
+  EXPECT_FALSE(position.jumped(0.1, Eigen::Vector3d(0.11, 0.0, 0.0), weak_x));
+  // Off: the paper's ICP has no prediction to jump from.
+  EXPECT_FALSE(uncertainty().jumped(0.1, Eigen::Vector3d(1.0, 0.0, 0.0), scan));
+  EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = kSigma, .jump_sigmas = -1.0}),
+               std::invalid_argument);
+}
+
 TEST(PositionUncertainty, RejectsANegativeOrNonFiniteSigmaOrInterval) {
   EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = -0.01}), std::invalid_argument);
   EXPECT_THROW(PositionUncertainty(PositionUncertaintyParams{.prediction_sigma_m = std::nan("")}),

@@ -1,7 +1,8 @@
 // The registration stage's scan assembly as the daemon runs it: a scan that
 // covers too little of a turn is not registered, and each packet fault is
 // counted for status_t and named in the log; the gyro's clipping flags a
-// scan, and keeps the first map from starting.
+// scan, and keeps the first map from starting. The fuser stage restarts at
+// rest after a loss of track its velocity may have caused.
 #include "daemon/core_stages.hpp"
 
 #include <gtest/gtest.h>
@@ -165,6 +166,51 @@ TEST(CoreRegistrationStage, CountsAClippedSpinsScansInARowAndStartsAgainAfterALi
     in_row.push_back(r.spin_clipped_scans_in_row);
   // The fourth scan comes after the silence, on a new map: the fuser's rate is a second old.
   EXPECT_EQ(in_row, (std::vector<std::int32_t>{0, 1, 2, 1, 2, 0, 1}));
+}
+
+// An IMU sample at t_s: still, or turning at 1 rad/s about z (not still).
+ImuSample imu_sample(double t_s, bool turning) {
+  ImuSample sample;
+  sample.t_s = t_s;
+  sample.accel_m_s2 = Eigen::Vector3d(0.0, 0.0, 9.80665);
+  if (turning) sample.gyro_rad_s = Eigen::Vector3d(0.0, 0.0, 1.0);
+  return sample;
+}
+
+// The fuser stage's newest record after feeding samples from t_from_s to t_to_s.
+TrajectoryRecord feed_fuser(CoreFuserStage& fuser, double t_from_s, double t_to_s, bool turning) {
+  TrajectoryRecord newest;
+  for (double t = t_from_s; t <= t_to_s + 1e-9; t += 0.01) fuser.add_imu(imu_sample(t, turning), newest);
+  return newest;
+}
+
+TEST(CoreFuserStage, ALossByUnregisteredScansRestartsTheFuserAtTheNextRest) {
+  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
+  feed_fuser(fuser, 0.0, 1.2, false);  // initialised
+  EXPECT_FALSE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
+  RegistrationRecord lost;
+  lost.t_s = 1.9;
+  lost.resets = 1;
+  lost.reset_reason = TrackingLoss::NotRegistered;
+  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
+  const TrajectoryRecord waiting = feed_fuser(fuser, 2.01, 3.0, true);
+  EXPECT_TRUE(waiting.awaiting_rest);
+  EXPECT_EQ(waiting.rests, 0u);
+  const TrajectoryRecord rested = feed_fuser(fuser, 3.01, 3.7, false);  // still for longer than fuser.rest_static_s
+  EXPECT_FALSE(rested.awaiting_rest);
+  EXPECT_EQ(rested.rests, 1u);
+  EXPECT_EQ(rested.resets, 1);
+}
+
+TEST(CoreFuserStage, ALossOfTheLidarKeepsTheVelocity) {
+  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
+  feed_fuser(fuser, 0.0, 1.2, false);
+  RegistrationRecord lost;
+  lost.t_s = 1.1;
+  lost.resets = 1;
+  lost.reset_reason = TrackingLoss::LidarSilent;  // the IMU carried the pose: its velocity is not the suspect
+  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
+  EXPECT_FALSE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
 }
 
 }  // namespace

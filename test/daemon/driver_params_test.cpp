@@ -91,6 +91,20 @@ TEST(OdometryParamsFromConfig, ThePredictionIsICPsPriorByDefaultAndZeroTurnsItOf
   EXPECT_THROW(load_config("registration:\n  prediction_sigma_m: -0.01\n", "test.yaml"), ConfigError);
 }
 
+TEST(OdometryParamsFromConfig, JumpsAreTestedAt5SigmaAndALossWaitsForHalfASecondAtRest) {
+  const OdometryParams defaults = odometry_params(DaemonConfig{});
+  EXPECT_DOUBLE_EQ(defaults.position.jump_sigmas, 5.0);
+  EXPECT_DOUBLE_EQ(OdometryParams{}.position.jump_sigmas, 0.0);  // the core's: no prediction to jump from
+  EXPECT_DOUBLE_EQ(defaults.fuser.rest_duration_s, 0.5);
+  EXPECT_EQ(defaults.fuser.rest_duration_s, ImuFuserParams{}.rest_duration_s);
+  const OdometryParams set =
+      odometry_params(load_config("registration:\n  jump_sigmas: 0\nfuser:\n  rest_static_s: 2\n", "test.yaml"));
+  EXPECT_DOUBLE_EQ(set.position.jump_sigmas, 0.0);
+  EXPECT_DOUBLE_EQ(set.fuser.rest_duration_s, 2.0);
+  EXPECT_THROW(load_config("registration:\n  jump_sigmas: -1\n", "test.yaml"), ConfigError);
+  EXPECT_THROW(load_config("fuser:\n  rest_static_s: 61\n", "test.yaml"), ConfigError);
+}
+
 TEST(OdometryParamsFromConfig, TheLevellingsAttitudeLimitReachesTheFuserInRadians) {
   EXPECT_NEAR(odometry_params(DaemonConfig{}).fuser.levelling_max_rotation_error_rad, 0.15 * std::numbers::pi / 180.0,
               1e-15);

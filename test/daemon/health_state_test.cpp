@@ -105,6 +105,32 @@ TEST(HealthState, AFirstMapWaitingForTheGyroStaysInitialisingAndSaysWhy) {
   EXPECT_EQ(lost.reason, t.reason);
 }
 
+TEST(HealthState, LostWaitingForRestSaysSoUntilANewMapStarts) {
+  HealthInputs in = healthy();
+  in.consecutive_good_scans = 0;
+  in.worst_scan_in_period = ScanVerdict::AwaitingRest;
+  const HealthTransition t = next_health_state(S::Lost, 1.0, in, {});
+  EXPECT_EQ(t.state, S::Lost);
+  EXPECT_EQ(t.reason, "tracking lost: waiting for the robot to be still to start again from zero velocity");
+  in.worst_scan_in_period = ScanVerdict::Good;
+  in.new_map_since_lost = true;
+  EXPECT_EQ(next(S::Lost, in), S::Initialising);
+}
+
+TEST(HealthState, AJumpAndAScanWithoutTheImuDegradeWithTheirReasons) {
+  HealthInputs in = healthy();
+  in.worst_scan_in_period = ScanVerdict::Jumped;
+  const HealthTransition jumped = next_health_state(S::Tracking, 1.0, in, {});
+  EXPECT_EQ(jumped.state, S::Degraded);
+  EXPECT_EQ(jumped.reason,
+            "registration jumped from the IMU's prediction (registration.jump_sigmas): the prediction or the scan is "
+            "wrong");
+  in.worst_scan_in_period = ScanVerdict::ImuBridged;
+  const HealthTransition bridged = next_health_state(S::Tracking, 1.0, in, {});
+  EXPECT_EQ(bridged.state, S::Degraded);
+  EXPECT_EQ(bridged.reason, "registered without IMU data: de-skewed and predicted from the registrations alone");
+}
+
 TEST(HealthState, AWeaklyConstrainedRegistrationDegradesWithThatReason) {
   HealthInputs in = healthy();
   in.worst_scan_in_period = ScanVerdict::WeaklyConstrained;

@@ -29,6 +29,19 @@ TEST(ScanVerdict, AWeaklyPinnedDirectionIsPoorOnlyWithoutThePredictionAsPrior) {
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::PoorRegistration);
 }
 
+TEST(ScanVerdict, AJumpAScanWithoutTheImuAndAWaitForRestAreNeverGood) {
+  const HealthConfig health;
+  RegistrationRecord r = good_registration();
+  r.imu_bridged = true;
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::ImuBridged);
+  r.jumped = true;  // the more specific
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Jumped);
+  r = good_registration();
+  r.registered = false;
+  r.awaiting_rest = true;
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::AwaitingRest);
+}
+
 TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedMoreThanAMeasuredOneMust) {
   const HealthConfig health;
   RegistrationRecord r = good_registration();

@@ -180,6 +180,8 @@ struct LongRoute {
 };
 constexpr LongRoute kLongRoutes[] = {
     {"garage", -14.0, 0.0, 28.0, 3.0}, {"corridor", -20.0, 0.0, 40.0, 0.0}, {"yard", -15.0, 10.0, 28.0, 3.0}};
+// Down the middle of the hall (scenes/hall.yaml), between its glass ends.
+constexpr LongRoute kHallRoute = {"hall", -13.0, 0.0, 26.0, 2.0};
 
 // The cage pulled out and rolled back to where it started, with bounces and
 // jolts all the way: >= 50 m and >= 60 s at <= 0.9 m/s.
@@ -345,6 +347,23 @@ std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed) {
       if (v == "puller" || v == "both") run.scenario["people"]["rope_puller"] = YAML::Node(YAML::NodeType::Map);
       plan.push_back(std::move(run));
     }
+  }
+  // The runaway runs (issue 44's hall): the long cage run down the
+  // glass-ended hall, whose axis only a few pillars pin, with people walking
+  // across, the rope puller ahead, mixed pixels and 1 ms of network jitter.
+  SensorRng hall_rng(seed, "bench-hall-runs");
+  for (int k = 0; k < kBenchHallRuns; ++k) {
+    double nominal_speed = 0.0;
+    YAML::Node motion = long_cage_motion(hall_rng, kHallRoute, nominal_speed);
+    char name[64];
+    std::snprintf(name, sizeof name, "long-%02d-hall-cage", ++long_index);
+    BenchRun run{name, "long", nominal_speed, "rad/s", scenario_node(kHallRoute.scene, motion, hall_rng.next_u64(), seed, ++index)};
+    turn_on_error_sources(run.scenario, offset_s, true);
+    run.scenario["lidar"]["mixed_pixels"] = true;
+    run.scenario["lidar"]["network_jitter_s"] = 0.001;
+    run.scenario["people"]["walkers"]["count"] = kBenchWalkers;
+    run.scenario["people"]["rope_puller"] = YAML::Node(YAML::NodeType::Map);
+    plan.push_back(std::move(run));
   }
   return plan;
 }

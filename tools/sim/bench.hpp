@@ -17,6 +17,7 @@ namespace tumble::sim {
 inline constexpr int kBenchCageRuns = 46;
 inline constexpr int kBenchLongRunsPerScene = 4;  // realistic bench: garage, corridor, yard
 inline constexpr int kBenchPeopleCages = 3;       // realistic bench: cage runs, each without and with people
+inline constexpr int kBenchHallRuns = 2;          // realistic bench: long cage runs in the glass-ended hall, last
 inline constexpr double kBenchStaticStartS = 1.5;
 
 struct BenchRun {

@@ -2,6 +2,7 @@
 // deterministic for a seed; and the folder layout it writes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -115,7 +116,7 @@ std::unique_ptr<Motion> motion_of(const BenchRun& run) {
 TEST(RealisticBench, IsTodaysRunsWithEveryErrorSourceOnPlusLongRuns) {
   const auto today = plan_bench(7);
   const auto plan = plan_realistic_bench(7);
-  ASSERT_EQ(plan.size(), today.size() + 3 * kBenchLongRunsPerScene + 4 * kBenchPeopleCages);
+  ASSERT_EQ(plan.size(), today.size() + 3 * kBenchLongRunsPerScene + 4 * kBenchPeopleCages + kBenchHallRuns);
   const double offset_s = realistic_rig_imu_time_offset_s(7);
   EXPECT_GE(std::abs(offset_s), 0.002);
   EXPECT_LE(std::abs(offset_s), 0.005);
@@ -162,8 +163,12 @@ TEST(RealisticBench, PeopleRunsComeInFoursThatDifferOnlyInTheirPeople) {
     EXPECT_TRUE(!s[2].people.walkers && s[2].people.rope_puller);
     EXPECT_TRUE(s[3].people.walkers && s[3].people.rope_puller);
   }
-  // Appended: the runs before them are the bench without people runs, unchanged.
-  EXPECT_EQ(plan[plan.size() - people.size() - 1].kind, "long");
+  // Appended after the long runs of the garage, corridor and yard, which are unchanged.
+  const auto first_people =
+      std::find_if(plan.begin(), plan.end(), [](const BenchRun& run) { return run.kind == "people"; });
+  ASSERT_NE(first_people, plan.begin());
+  EXPECT_EQ((first_people - 1)->kind, "long");
+  EXPECT_EQ(plan.back().name.find("-hall-cage"), plan.back().name.size() - 10);
 }
 
 TEST(RealisticBench, LongRunsGoOutAtLeast25mAndComeBackInAMinuteOrMore) {
@@ -197,6 +202,22 @@ TEST(RealisticBench, LongRunsGoOutAtLeast25mAndComeBackInAMinuteOrMore) {
   EXPECT_EQ(scenes["garage"], kBenchLongRunsPerScene);
   EXPECT_EQ(scenes["corridor"], kBenchLongRunsPerScene);
   EXPECT_EQ(scenes["yard"], kBenchLongRunsPerScene);
+  EXPECT_EQ(scenes["hall"], kBenchHallRuns);
+}
+
+TEST(RealisticBench, HallRunsHaveThePeopleTheJitterAndTheMixedPixels) {
+  int hall_runs = 0;
+  for (const BenchRun& run : plan_realistic_bench(3)) {
+    if (run.scenario["scene"].as<std::string>() != "hall") continue;
+    SCOPED_TRACE(run.name);
+    ++hall_runs;
+    const Scenario s = parse_scenario(run.scenario, run.name, ".");
+    EXPECT_TRUE(s.people.walkers && s.people.rope_puller);
+    EXPECT_TRUE(s.lidar.mixed_pixels);
+    EXPECT_EQ(s.lidar_link.network_jitter_s, 0.001);
+    EXPECT_TRUE(s.lidar.cage_bars.enabled);
+  }
+  EXPECT_EQ(hall_runs, kBenchHallRuns);
 }
 
 TEST(RealisticBench, IndexSaysSoAndTodaysDoesNot) {
