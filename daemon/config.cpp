@@ -92,6 +92,8 @@ void visit_config(Visitor& v, Config& c) {
     });
     v.field("gyro_noise_density_deg_s_sqrt_hz", i.gyro_noise_density_deg_s_sqrt_hz, Range{0.0, 10.0});
     v.field("accel_noise_density_ug_sqrt_hz", i.accel_noise_density_ug_sqrt_hz, Range{0.0, 100000.0});
+    v.field("gyro_range_deg_s", i.gyro_range_deg_s, Range{1.0, 10000.0});
+    v.field("accel_range_m_s2", i.accel_range_m_s2, Range{1.0, 10000.0});
   });
   v.section("fuser", [&] {
     auto& f = c.fuser;

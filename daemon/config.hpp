@@ -63,6 +63,9 @@ struct ImuConfig {
   ExtrinsicConfig extrinsic_T_LI;
   double gyro_noise_density_deg_s_sqrt_hz = 0.03;
   double accel_noise_density_ug_sqrt_hz = 60.0;
+  // The device's range per axis (MTi-30 G4, A8): samples beyond 1.5 times it are rejected.
+  double gyro_range_deg_s = 450.0;
+  double accel_range_m_s2 = 200.0;
   bool operator==(const ImuConfig&) const = default;
 };
 

@@ -117,6 +117,10 @@ mti::MtiStreamOptions imu_stream_options(const ImuConfig& imu) {
   return o;
 }
 
+ImuLimits imu_limits(const ImuConfig& imu) {
+  return ImuLimits{imu.gyro_range_deg_s * kDegToRad, imu.accel_range_m_s2};
+}
+
 mti::SerialSourceOptions serial_source_options(const ImuConfig& imu) {
   mti::SerialSourceOptions o;
   o.device = imu.device;

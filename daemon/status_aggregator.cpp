@@ -187,6 +187,7 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.scans_short_coverage = load(c.scans_short_coverage);
   out.imu_duplicate_frames = load(c.imu_duplicate_frames);
   out.imu_out_of_order_frames = load(c.imu_out_of_order_frames);
+  out.imu_rejected_samples = load(c.imu_rejected_samples);
   out.scans_registered = scans;
   out.scans_dropped = load(c.scans_dropped);
   out.scans_short_trajectory = load(c.scans_short_trajectory);

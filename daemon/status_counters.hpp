@@ -27,6 +27,7 @@ struct PipelineCounters {
   std::atomic<std::int64_t> imu_gaps{0};
   std::atomic<std::int64_t> imu_duplicate_frames{0};
   std::atomic<std::int64_t> imu_out_of_order_frames{0};
+  std::atomic<std::int64_t> imu_rejected_samples{0};  // NaN, Inf or beyond the device's range: not fused
   ClockEstimate imu_clock;
   ClockEstimate lidar_clock;
   std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
