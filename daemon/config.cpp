@@ -190,6 +190,7 @@ void visit_config(Visitor& v, Config& c) {
       v.field("spin_clipped_scans_to_settle", h.spin_clipped_scans_to_settle, IntRange{0, 1000});
       v.field("min_degeneracy", h.min_degeneracy, Range{0.0, 1.0});
       v.field("max_expected_error_m", h.max_expected_error_m, Range{0.001, 10.0});
+      v.field("second_lidar_rate_hz", h.second_lidar_rate_hz, Range{1.0, 100000.0});
     });
   });
   v.section("record", [&] { v.field("dir", c.record.dir, AnyText{}); });

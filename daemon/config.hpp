@@ -36,7 +36,7 @@ struct LidarConfig {
   std::string bind_address = "0.0.0.0";
   int msop_port = 6699;
   int difop_port = 7788;
-  std::string source_ip;  // empty: accept datagrams from any address
+  std::string source_ip;  // empty: the first sender of a well-formed MSOP datagram, for the whole run
   double split_azimuth_deg = 0.0;
   double min_scan_coverage = 0.9;  // fraction of a turn; shorter scans are skipped (and counted)
   double min_range_m = 0.4;
@@ -153,6 +153,7 @@ struct HealthConfig {
   int spin_clipped_scans_to_settle = 3;
   double min_degeneracy = 0.0005;
   double max_expected_error_m = 0.04;
+  double second_lidar_rate_hz = 375.0;  // foreign datagrams/s to the MSOP port that are a second lidar
   bool operator==(const HealthConfig&) const = default;
 };
 

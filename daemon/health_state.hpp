@@ -3,9 +3,10 @@
 //   WAITING_FOR_SENSORS --both sensors fresh--> INITIALISING
 //   INITIALISING --a sensor stale--> WAITING_FOR_SENSORS
 //   INITIALISING --fuser initialised and a good scan registered--> TRACKING
-//   TRACKING --a sensor stale, a bad scan, or data dropped--> DEGRADED
-//   DEGRADED --sensors fresh, nothing dropped, good_scans_to_recover
-//              consecutive good scans--> TRACKING
+//   TRACKING --a sensor stale, a bad scan, data dropped, or a second lidar
+//              on the network--> DEGRADED
+//   DEGRADED --sensors fresh, nothing dropped, no second lidar,
+//              good_scans_to_recover consecutive good scans--> TRACKING
 //   DEGRADED --degraded for degraded_to_lost_s--> LOST
 //   TRACKING, DEGRADED --no lidar data for lidar_silent_to_lost_s--> LOST
 //              (the registration starts a new local map on the next scan)
@@ -62,6 +63,7 @@ struct HealthInputs {
   int resets_in_period = 0;          // local maps given up
   std::string_view reset_reason;     // of the newest of them
   bool new_map_since_lost = false;   // a scan started a new local map after the reset that lost track
+  bool second_lidar = false;         // another host sends to the lidar's port at a lidar's rate
 };
 
 struct HealthLimits {

@@ -169,7 +169,8 @@ void Pipeline::advance_sensor_time(double t_s) {
   // Integer tick numbers: no drift from adding up the period.
   for (double tick_s = static_cast<double>(next_tick_) * kHealthPeriod_s; t_s >= tick_s;
        tick_s = static_cast<double>(++next_tick_) * kHealthPeriod_s) {
-    ticks_in_.push(SensorTimeTick{tick_s, newest_imu_s_, newest_lidar_s_, lidar_.pushed(), 0});
+    ticks_in_.push(SensorTimeTick{tick_s, newest_imu_s_, newest_lidar_s_, lidar_.pushed(), 0,
+                                  counters_.lidar_foreign_rate_hz.load(std::memory_order_relaxed)});
     pushed = true;
   }
   if (pushed) registration_wakeup_.notify();

@@ -76,7 +76,7 @@ std::uint64_t StatusAggregator::sensor_drops() const {
 }
 
 void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s,
-                                       bool fuser_initialised) {
+                                       bool fuser_initialised, double foreign_lidar_rate_hz) {
   const std::uint64_t drops = sensor_drops();
   if (input_ended_) imu_silent_s = lidar_silent_s = 0.0;
   HealthInputs in;
@@ -94,6 +94,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   // Lost without a reset (a silent lidar): the registration's reset comes later, with the next scan.
   if (state_ == HealthState::Lost && resets_in_period_ > 0) lost_at_resets_ = resets_seen_;
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
+  in.second_lidar = !input_ended_ && foreign_lidar_rate_hz >= health_.second_lidar_rate_hz;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
                             health_.lidar_silent_to_lost_s};
   const HealthTransition next = next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
@@ -129,7 +130,8 @@ void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumb
   const PipelineCounters& c = counters_;
   evaluate_health(now_steady_ns, silent_s(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
                   silent_s(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
-                  c.fuser_initialised.load(std::memory_order_relaxed));
+                  c.fuser_initialised.load(std::memory_order_relaxed),
+                  c.lidar_foreign_rate_hz.load(std::memory_order_relaxed));
   fill_message(now_steady_ns, utime, out);
 }
 
@@ -145,12 +147,13 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
   // A reported scan was registered with the fuser's trajectory: the fuser is
   // initialised (its own flag changes at a moment no replay can reproduce).
   evaluate_health(now_ns, sensor_silent_s(tick.newest_imu_s), sensor_silent_s(tick.newest_lidar_s),
-                  any_scan_reported_);
+                  any_scan_reported_, tick.foreign_lidar_rate_hz);
 }
 
 void StatusAggregator::judge_final_scans(std::int64_t now_ns) {
   drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
-  evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed));
+  evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed),
+                  0.0);
 }
 
 void StatusAggregator::publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out) {

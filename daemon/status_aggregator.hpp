@@ -69,7 +69,8 @@ class StatusAggregator {
   void drain_scan_reports(std::uint64_t until);  // until: the report count to reach (scan_reports_ pushes)
   std::uint64_t sensor_drops() const;  // lost sensor data: dropped scans and sensor-ring drops
   // *_silent_s: since the sensor's newest data (infinity before any).
-  void evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s, bool fuser_initialised);
+  void evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s, bool fuser_initialised,
+                       double foreign_lidar_rate_hz);
   void fill_message(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out);
 
   HealthConfig health_;

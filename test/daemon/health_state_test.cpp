@@ -130,6 +130,20 @@ TEST(HealthState, AnUnobservedDirectionDegradesWithThatReasonAndIsRestated) {
   EXPECT_EQ(next_health_state(S::Degraded, 3.0, in, {}).state, S::Lost);
 }
 
+TEST(HealthState, ASecondLidarOnTheNetworkDegradesWithThatReasonUntilItStops) {
+  HealthInputs in = healthy();
+  in.second_lidar = true;
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_NE(t.reason.find("a second host sends lidar traffic at a lidar's rate"), std::string_view::npos) << t.reason;
+  // Good scans do not end it, nor does time make it lost: the pose is still the lidar's.
+  const HealthTransition held = next_health_state(S::Degraded, 60.0, in, HealthLimits{3.0, 5});
+  EXPECT_EQ(held.state, S::Degraded);
+  EXPECT_EQ(held.reason, t.reason);
+  in.second_lidar = false;
+  EXPECT_EQ(next(S::Degraded, in, 60.0), S::Tracking);
+}
+
 TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 4;

@@ -210,6 +210,31 @@ TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChang
   EXPECT_NE(aggregator_.summary().find("lost"), std::string::npos);
 }
 
+TEST_F(StatusAggregatorTest, ASecondLidarDegradesLiveAndOnSensorTime) {
+  ASSERT_NO_FATAL_FAILURE(start_tracking());
+  counters_.lidar_foreign_rate_hz = HealthConfig{}.second_lidar_rate_hz - 1.0;  // many foreign datagrams, not a lidar
+  report_scan(true, 1.0f);
+  sensors_alive(2 * kSecond);
+  aggregator_.tick(2 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.lidar_foreign_rate_hz = 1125.0;
+  report_scan(true, 1.0f);
+  sensors_alive(3 * kSecond);
+  aggregator_.tick(3 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(status_.state_reason.find("second host"), std::string::npos) << status_.state_reason;
+
+  // A replay judges the rate the io thread saw at each tick, not the counter's latest value.
+  counters_.lidar_foreign_rate_hz = 0.0;
+  StatusAggregator replayed(HealthConfig{}, {}, {}, counters_, reports_, 0, logger_);
+  for (double t_s = 1.0; t_s < 2.0; t_s += 0.1) {
+    reports_.push(registered_scan(true));
+    const bool foreign = t_s > 1.5;
+    replayed.evaluate(SensorTimeTick{t_s, t_s - 0.01, t_s - 0.01, 0, reports_.pushed(), foreign ? 1125.0 : 0.0});
+    EXPECT_EQ(replayed.state() == HealthState::Degraded, foreign) << t_s;
+  }
+}
+
 TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
   ASSERT_NO_FATAL_FAILURE(start_tracking());
   const int lines = log_lines();
