@@ -184,6 +184,7 @@ void visit_config(Visitor& v, Config& c) {
       v.field("sensor_timeout_s", h.sensor_timeout_s, Range{0.01, 60.0});
       v.field("degraded_to_lost_s", h.degraded_to_lost_s, Range{0.0, 600.0});
       v.field("lidar_silent_to_lost_s", h.lidar_silent_to_lost_s, Range{0.1, 600.0});
+      v.field("scan_timeout_s", h.scan_timeout_s, Range{0.05, 600.0});
       v.field("good_scans_to_recover", h.good_scans_to_recover, IntRange{1, 1000});
       v.field("min_matched_ratio", h.min_matched_ratio, Range{0.0, 1.0});
       v.field("min_matched_ratio_spin_clipped", h.min_matched_ratio_spin_clipped, Range{0.0, 1.0});

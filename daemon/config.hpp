@@ -147,6 +147,7 @@ struct HealthConfig {
   double sensor_timeout_s = 0.2;
   double degraded_to_lost_s = 3.0;
   double lidar_silent_to_lost_s = 1.0;
+  double scan_timeout_s = 0.5;  // lidar points but no scan completed this long: stale
   int good_scans_to_recover = 5;
   double min_matched_ratio = 0.25;
   double min_matched_ratio_spin_clipped = 0.3;

@@ -58,10 +58,14 @@ std::string_view reason_of(ScanVerdict verdict) {
 constexpr std::string_view kSecondLidar =
     "a second host sends lidar traffic at a lidar's rate: ignored, but set lidar.source_ip or find the sender";
 
-std::string_view stale_sensor(const HealthInputs& in) {
+constexpr std::string_view kNoScan =
+    "no scan completed for daemon.health.scan_timeout_s: lidar points arrive but make no scan (motor stalled?)";
+
+std::string_view stale_sensor(const HealthInputs& in, const HealthLimits& limits) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
   if (!in.imu_fresh) return "no IMU data";
   if (!in.lidar_fresh) return "no lidar data";
+  if (in.scan_silent_s >= limits.scan_timeout_s) return kNoScan;
   return {};
 }
 
@@ -69,7 +73,7 @@ std::string_view stale_sensor(const HealthInputs& in) {
 
 HealthTransition next_health_state(HealthState current, double time_in_state_s, const HealthInputs& in,
                                    const HealthLimits& limits) {
-  const std::string_view stale = stale_sensor(in);
+  const std::string_view stale = stale_sensor(in, limits);
   const bool fresh = stale.empty();
   using S = HealthState;
   if ((current == S::Tracking || current == S::Degraded || current == S::Lost) && !in.fuser_initialised)

@@ -21,7 +21,12 @@
 // LOST is never terminal: the registration thread re-initialises by itself
 // (a new local map continuing the last pose, core_stages.hpp), and a map that
 // was kept can be tracked against again.
-// "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
+// "Fresh": data arrived within daemon.health.sensor_timeout_s: a valid IMU
+// sample, a lidar datagram that gave points. Lidar points that complete no
+// scan for scan_timeout_s (a stalled motor with its lasers firing) are a
+// stale lidar too, with their own reason: degraded, then lost after
+// degraded_to_lost_s (the first scan after a gap of lidar_silent_to_lost_s
+// starts a new local map, a reset). "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
 // where the gyro was clipped about the lidar's spin axis past the spin's first spin_clipped_scans_to_settle scans
 // and matched ratio >= min_matched_ratio_spin_clipped, no direction unobserved
@@ -64,12 +69,14 @@ struct HealthInputs {
   std::string_view reset_reason;     // of the newest of them
   bool new_map_since_lost = false;   // a scan started a new local map after the reset that lost track
   bool second_lidar = false;         // another host sends to the lidar's port at a lidar's rate
+  double scan_silent_s = 0.0;        // since the newest scan completed (registered or not)
 };
 
 struct HealthLimits {
   double degraded_to_lost_s = 3.0;
   int good_scans_to_recover = 5;
   double lidar_silent_to_lost_s = 1.0;
+  double scan_timeout_s = 0.5;
 };
 
 struct HealthTransition {

@@ -44,14 +44,17 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
   stage_ms_.resize(stage_names_.size());
 }
 
-void StatusAggregator::drain_scan_reports(std::uint64_t until) {
-  while (reports_consumed_ < until && scan_reports_.pop_with([this](const RegistrationRecord& r) {
+void StatusAggregator::drain_scan_reports(std::uint64_t until, std::int64_t now_ns) {
+  while (reports_consumed_ < until && scan_reports_.pop_with([this, now_ns](const RegistrationRecord& r) {
     const std::size_t stages = std::min<std::size_t>(r.num_stages, stage_ms_.size());
     for (std::size_t i = 0; i < stages; ++i) stage_ms_[i].add(r.stage_ms[i]);
     iterations_.add(static_cast<float>(r.iterations));
     inlier_ratio_.add(r.inlier_ratio);
     degeneracy_.add(r.degeneracy);
     any_scan_reported_ = true;
+    // Live, the health clock ticks once per status period: the scan's own completion time is finer.
+    const bool stamped = !on_sensor_time_ && r.scan_complete_steady_ns != 0;
+    newest_scan_ns_ = std::max(newest_scan_ns_, stamped ? r.scan_complete_steady_ns : now_ns);
     if (r.resets > resets_seen_) {
       resets_in_period_ += r.resets - resets_seen_;
       resets_seen_ = r.resets;
@@ -83,8 +86,8 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   in.imu_fresh = imu_silent_s <= health_.sensor_timeout_s;
   in.lidar_fresh = lidar_silent_s <= health_.sensor_timeout_s;
   in.lidar_silent_s = lidar_silent_s;
-  // Good scans before a silence say nothing of the pose after it.
-  if (!in.lidar_fresh) consecutive_good_scans_ = 0;
+  // Good scans before a silence, or before a spell without scans, say nothing of the pose after it.
+  if (!in.lidar_fresh || in.scan_silent_s >= health_.scan_timeout_s) consecutive_good_scans_ = 0;
   in.fuser_initialised = fuser_initialised;
   in.worst_scan_in_period = worst_scan_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
@@ -95,8 +98,10 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   if (state_ == HealthState::Lost && resets_in_period_ > 0) lost_at_resets_ = resets_seen_;
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
   in.second_lidar = !input_ended_ && foreign_lidar_rate_hz >= health_.second_lidar_rate_hz;
+  // Before the first scan nothing is late; after the input ended neither.
+  in.scan_silent_s = any_scan_reported_ && !input_ended_ ? seconds(now_ns - newest_scan_ns_) : 0.0;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
-                            health_.lidar_silent_to_lost_s};
+                            health_.lidar_silent_to_lost_s, health_.scan_timeout_s};
   const HealthTransition next = next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
   if (next.state != state_) {
     const bool worse = next.state == HealthState::Degraded || next.state == HealthState::Lost;
@@ -126,7 +131,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
 }
 
 void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
-  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max(), now_steady_ns);
   const PipelineCounters& c = counters_;
   evaluate_health(now_steady_ns, silent_s(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
                   silent_s(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
@@ -142,7 +147,7 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
     on_sensor_time_ = true;
     start_steady_ns_ = previous_steady_ns_ = state_since_steady_ns_ = now_ns;
   }
-  drain_scan_reports(tick.scan_reports);
+  drain_scan_reports(tick.scan_reports, now_ns);
   const auto sensor_silent_s = [&](double newest_s) { return newest_s >= 0.0 ? tick.t_s - newest_s : kNeverHeard_s; };
   // A reported scan was registered with the fuser's trajectory: the fuser is
   // initialised (its own flag changes at a moment no replay can reproduce).
@@ -151,7 +156,7 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
 }
 
 void StatusAggregator::judge_final_scans(std::int64_t now_ns) {
-  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max(), now_ns);
   evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed),
                   0.0);
 }

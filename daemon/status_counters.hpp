@@ -31,8 +31,11 @@ struct PipelineCounters {
   std::atomic<std::int64_t> imu_rejected_samples{0};  // NaN, Inf or beyond the device's range: not fused
   ClockEstimate imu_clock;
   ClockEstimate lidar_clock;
-  std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
-  std::atomic<std::int64_t> last_imu_steady_ns{0};    // arrival of the newest serial bytes, 0 = never
+  // Fresh means data, not bytes: foreign datagrams, DIFOP alone, packets
+  // without points or serial bytes that decode to no valid sample must not
+  // keep a dead sensor alive (0 = never).
+  std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram that gave points
+  std::atomic<std::int64_t> last_imu_steady_ns{0};    // arrival of the bytes of the newest valid IMU sample
 
   // fuser thread
   std::atomic<std::int64_t> imu_samples{0};  // consumed by the fuser

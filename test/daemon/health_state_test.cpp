@@ -144,6 +144,22 @@ TEST(HealthState, ASecondLidarOnTheNetworkDegradesWithThatReasonUntilItStops) {
   EXPECT_EQ(next(S::Degraded, in, 60.0), S::Tracking);
 }
 
+TEST(HealthState, LidarPointsThatCompleteNoScanAreAStaleLidarWithTheirOwnReason) {
+  HealthInputs in = healthy();
+  in.scan_silent_s = 0.4;
+  EXPECT_EQ(next(S::Tracking, in), S::Tracking);
+  in.scan_silent_s = 0.5;
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_NE(t.reason.find("no scan completed"), std::string_view::npos) << t.reason;
+  // Good scans from before the spell do not end it.
+  EXPECT_EQ(next(S::Degraded, in, 1.0), S::Degraded);
+  EXPECT_EQ(next(S::Degraded, in, 3.0), S::Lost);
+  // A lidar without points is named as such, not as a lidar without scans.
+  in.lidar_fresh = false;
+  EXPECT_EQ(next_health_state(S::Tracking, 0.0, in, {}).reason, "no lidar data");
+}
+
 TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 4;

@@ -235,6 +235,38 @@ TEST_F(StatusAggregatorTest, ASecondLidarDegradesLiveAndOnSensorTime) {
   }
 }
 
+// The motor stalls with the lasers firing: points keep arriving, no scan completes.
+TEST_F(StatusAggregatorTest, LidarPointsWithoutScansDegradeOnSensorTimeAndLive) {
+  for (int i = 0; i < 3; ++i) {
+    reports_.push(registered_scan(true));
+    evaluate_next_tick();
+  }
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  for (int i = 0; i < 4; ++i) evaluate_next_tick();  // 0.4 s of points, no scan
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: no scan completed for daemon.health.scan_timeout_s"),
+            std::string::npos)
+      << log_.str();
+
+  // Live, a scan's own completion time counts, not the tick that drained it.
+  StatusAggregator live(HealthConfig{}, {}, {}, counters_, reports_, 0, logger_);
+  counters_.fuser_initialised = true;
+  RegistrationRecord scan = registered_scan(true);
+  scan.scan_complete_steady_ns = kSecond;
+  reports_.push(scan);
+  sensors_alive(kSecond);
+  live.tick(kSecond, 0, status_);
+  live.tick(kSecond, 0, status_);
+  ASSERT_EQ(live.state(), HealthState::Tracking);
+  scan.scan_complete_steady_ns = kSecond + kSecond / 10;
+  reports_.push(scan);
+  sensors_alive(2 * kSecond);
+  live.tick(2 * kSecond, 0, status_);  // the newest scan completed 0.9 s ago
+  EXPECT_EQ(live.state(), HealthState::Degraded);
+}
+
 TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {
   ASSERT_NO_FATAL_FAILURE(start_tracking());
   const int lines = log_lines();
