@@ -59,7 +59,7 @@ constexpr std::string_view kSecondLidar =
     "a second host sends lidar traffic at a lidar's rate: ignored, but set lidar.source_ip or find the sender";
 
 constexpr std::string_view kNoScan =
-    "no scan completed for daemon.health.scan_timeout_s: lidar points arrive but make no scan (motor stalled?)";
+    "no scan completed for daemon.health.scan_timeout_s: lidar points arrive but make no scan, as from a stalled motor";
 
 std::string_view stale_sensor(const HealthInputs& in, const HealthLimits& limits) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
@@ -101,7 +101,7 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       const bool scans_good = fresh && !in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover;
       if (scans_good && !in.second_lidar) return {S::Tracking, "registration good again"};
       // The pose is the lidar's and good: the second sender alone keeps it degraded, never lost.
-      if (scans_good) return {S::Degraded, kSecondLidar};
+      if (scans_good) return {S::Degraded, kSecondLidar, true};
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
       if (in.second_lidar) return {S::Degraded, kSecondLidar};

@@ -82,6 +82,9 @@ struct HealthLimits {
 struct HealthTransition {
   HealthState state;
   std::string_view reason;  // empty when nothing changes; set when only the reason does (a stale sensor)
+  // Degraded for a second lidar alone, the scans good: degraded_to_lost_s
+  // measures how long the pose has been doubtful, so its clock starts again.
+  bool pose_good = false;
 };
 
 // The next state, given the current one and how long it has lasted.

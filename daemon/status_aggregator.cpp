@@ -125,6 +125,7 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
     }
     state_reason_ = next.reason;
   }
+  if (next.pose_good) state_since_steady_ns_ = now_ns;
   previous_drops_for_health_ = drops;
   worst_scan_in_period_ = ScanVerdict::Good;
   resets_in_period_ = 0;

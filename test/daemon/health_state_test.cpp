@@ -140,6 +140,10 @@ TEST(HealthState, ASecondLidarOnTheNetworkDegradesWithThatReasonUntilItStops) {
   const HealthTransition held = next_health_state(S::Degraded, 60.0, in, HealthLimits{3.0, 5});
   EXPECT_EQ(held.state, S::Degraded);
   EXPECT_EQ(held.reason, t.reason);
+  EXPECT_TRUE(held.pose_good);  // the degraded-to-lost clock starts again
+  in.consecutive_good_scans = 0;
+  EXPECT_FALSE(next_health_state(S::Degraded, 1.0, in, HealthLimits{3.0, 5}).pose_good);
+  in.consecutive_good_scans = 10;
   in.second_lidar = false;
   EXPECT_EQ(next(S::Degraded, in, 60.0), S::Tracking);
 }

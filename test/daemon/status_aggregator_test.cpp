@@ -233,6 +233,14 @@ TEST_F(StatusAggregatorTest, ASecondLidarDegradesLiveAndOnSensorTime) {
     replayed.evaluate(SensorTimeTick{t_s, t_s - 0.01, t_s - 0.01, 0, reports_.pushed(), foreign ? 1125.0 : 0.0});
     EXPECT_EQ(replayed.state() == HealthState::Degraded, foreign) << t_s;
   }
+  // Seconds of it with good scans, then one poor scan: degraded, not "degraded for too long".
+  for (double t_s = 2.0; t_s < 6.0; t_s += 0.1) {
+    reports_.push(registered_scan(true));
+    replayed.evaluate(SensorTimeTick{t_s, t_s - 0.01, t_s - 0.01, 0, reports_.pushed(), 1125.0});
+  }
+  reports_.push(registered_scan(false));
+  replayed.evaluate(SensorTimeTick{6.0, 5.99, 5.99, 0, reports_.pushed(), 1125.0});
+  EXPECT_EQ(replayed.state(), HealthState::Degraded);
 }
 
 // The motor stalls with the lasers firing: points keep arriving, no scan completes.
