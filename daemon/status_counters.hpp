@@ -58,6 +58,7 @@ struct PipelineCounters {
   std::atomic<std::int64_t> lidar_late_packets{0};
   std::atomic<std::int64_t> lidar_late_packets_dropped{0};
   std::atomic<std::int64_t> scans_short_coverage{0};  // skipped: not a whole revolution
+  std::atomic<std::int64_t> scans_cut_at_bound{0};    // skipped: cut at 1.5 revolutions without passing the split
 };
 
 }  // namespace tumble::daemon

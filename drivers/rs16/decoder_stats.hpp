@@ -43,6 +43,7 @@ struct DecoderStats {
   std::uint64_t late_packets = 0;          // older than the newest: put into their (still open) scan
   std::uint64_t late_packets_dropped = 0;  // older than the newest, fired before the open scan began: dropped
   std::uint64_t scans_short_coverage = 0;  // scans emitted covering less than min_scan_coverage of a turn
+  std::uint64_t scans_cut_at_bound = 0;    // scans cut at kMaxScanRevolutions without passing the split azimuth
 
   DecoderStats& operator+=(const DecoderStats& o);
 };

@@ -125,6 +125,7 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   counters_.imu_duplicate_frames = 15;
   counters_.imu_out_of_order_frames = 16;
   counters_.imu_rejected_samples = 17;
+  counters_.scans_cut_at_bound = 18;
   counters_.gyro_saturated_samples[1] = 4;
   counters_.imu_clock.offset_s = 0.25;
   for (int i = 0; i < 5; ++i) imu_ring_.push(i);
@@ -143,6 +144,7 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   EXPECT_EQ(status_.imu_duplicate_frames, 15);
   EXPECT_EQ(status_.imu_out_of_order_frames, 16);
   EXPECT_EQ(status_.imu_rejected_samples, 17);
+  EXPECT_EQ(status_.scans_cut_at_bound, 18);
   EXPECT_EQ(status_.gyro_saturated_samples[1], 4);
   EXPECT_EQ(status_.imu_clock_offset_s, 0.25);
   ASSERT_EQ(status_.num_rings, 2);
