@@ -26,6 +26,9 @@ faults=(
   "lidar restart: silent 3 s at 4 s|--lidar-gap 4,3"
   "IMU silent 0.2 s at 4 s|--imu-gap 4,0.2"
   "IMU silent 1 s at 4 s|--imu-gap 4,1"
+  "5 % IMU frames with a NaN rate|--imu-nan 0.05"
+  "second lidar host from 3 s (its stream 2 s old, 1.5x as fast)|--second-lidar 3,2"
+  "motor stalled 2 s at 4 s, lasers firing|--motor-stall 4,2"
 )
 
 echo "| fault | run | final error | states and warnings (data time) |"
