@@ -76,6 +76,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("max_range_m", l.max_range_m, Range{0.1, 300.0});
     v.field("clock", l.clock, Choice<LidarClock>{kClocks});
     v.field("vertical_angles_deg", l.vertical_angles_deg, Angles{16, Range{-25.0, 25.0}});
+    v.field("follow_difop_changes", l.follow_difop_changes, AnyText{});
   });
   v.section("imu", [&] {
     auto& i = c.imu;

@@ -43,6 +43,7 @@ struct LidarConfig {
   double max_range_m = 200.0;
   LidarClock clock = LidarClock::Free;
   std::vector<double> vertical_angles_deg;  // empty: from DIFOP; else 16 values, laser 0..15
+  bool follow_difop_changes = false;  // false: the first calibrated DIFOP's settings hold for the run
   bool operator==(const LidarConfig&) const = default;
 };
 

@@ -88,6 +88,7 @@ rs16::DecoderConfig lidar_decoder_config(const LidarConfig& lidar) {
   d.min_range_m = lidar.min_range_m;
   d.max_range_m = lidar.max_range_m;
   d.clock = lidar.clock == LidarClock::Synced ? rs16::ClockMode::Synced : rs16::ClockMode::Free;
+  d.follow_difop_changes = lidar.follow_difop_changes;
   if (!lidar.vertical_angles_deg.empty()) {
     std::array<double, rs16::kLasers> angles{};
     std::copy_n(lidar.vertical_angles_deg.begin(), rs16::kLasers, angles.begin());

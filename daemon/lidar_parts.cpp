@@ -89,6 +89,7 @@ void Rs16LidarDecoder::report(PipelineCounters& counters) const {
   counters.lidar_bad_packets.store(static_cast<std::int64_t>(stats_.bad_msop.total() + stats_.bad_difop.total()),
                                    relaxed);
   counters.lidar_foreign_packets.store(foreign_, relaxed);
+  counters.lidar_difop_ignored.store(static_cast<std::int64_t>(stats_.difop_ignored), relaxed);
   counters.lidar_foreign_rate_hz.store(foreign_msop_rate_.rate_hz(), relaxed);
   const rs16::LidarClockMapper& clock = decoder_.clock();
   if (clock.started()) {

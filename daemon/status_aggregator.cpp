@@ -195,6 +195,7 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.lidar_late_packets_dropped = load(c.lidar_late_packets_dropped);
   out.scans_short_coverage = load(c.scans_short_coverage);
   out.scans_cut_at_bound = load(c.scans_cut_at_bound);
+  out.lidar_difop_ignored = load(c.lidar_difop_ignored);
   out.imu_duplicate_frames = load(c.imu_duplicate_frames);
   out.imu_out_of_order_frames = load(c.imu_out_of_order_frames);
   out.imu_rejected_samples = load(c.imu_rejected_samples);

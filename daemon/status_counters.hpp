@@ -22,6 +22,7 @@ struct PipelineCounters {
   std::atomic<std::int64_t> lidar_bad_packets{0};
   std::atomic<std::int64_t> lidar_missing_packets{0};
   std::atomic<std::int64_t> lidar_foreign_packets{0};
+  std::atomic<std::int64_t> lidar_difop_ignored{0};  // disagreed with the configuration in use
   std::atomic<double> lidar_foreign_rate_hz{0.0};  // foreign datagrams to the MSOP port, over the last whole second
   std::atomic<std::int64_t> imu_frames{0};
   std::atomic<std::int64_t> imu_bad_frames{0};

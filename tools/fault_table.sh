@@ -29,6 +29,7 @@ faults=(
   "5 % IMU frames with a NaN rate|--imu-nan 0.05"
   "second lidar host from 3 s (its stream 2 s old, 1.5x as fast)|--second-lidar 3,2"
   "motor stalled 2 s at 4 s, lasers firing|--motor-stall 4,2"
+  "DIFOP with another calibration from 3 s|--difop-change 3"
 )
 
 echo "| fault | run | final error | states and warnings (data time) |"

@@ -33,6 +33,7 @@ struct DecoderStats {
   BadPackets bad_difop;
   std::uint64_t msop_blocks_cut = 0;     // blocks after a wrong flag or azimuth, ignored
   std::uint64_t difop_uncalibrated = 0;  // DIFOP whose vertical angles were unusable (kept the previous ones)
+  std::uint64_t difop_ignored = 0;       // DIFOP after the first that disagreed with the settings in use
   std::uint64_t msop_before_difop = 0;   // skipped while waiting for the first DIFOP (wait_for_difop)
   DroppedPoints dropped;
   std::uint64_t points = 0;           // points produced

@@ -10,6 +10,8 @@
 #include <sstream>
 #include <string>
 
+#include "drivers/rs16/difop_encode.hpp"
+#include "drivers/rs16/laser_geometry.hpp"
 #include "drivers/rs16/msop_encode.hpp"
 #include "test/daemon/captured_log.hpp"
 
@@ -107,6 +109,29 @@ TEST(Rs16LidarDecoder, WithoutASourceIpOnlyAWellFormedMsopDatagramChoosesTheLida
   EXPECT_FALSE(decoder.decode(LidarDatagram{1.0, noisy, 6699, 6699, garbage}, block));
   EXPECT_TRUE(decoder.decode(LidarDatagram{1.001, lidar, 6699, 6699, packet}, block));
   EXPECT_FALSE(decoder.decode(LidarDatagram{1.002, noisy, 6699, 6699, packet}, block));
+}
+
+TEST(Rs16LidarDecoder, ADifopThatDisagreesLaterIsWarnedAboutOnceAndCounted) {
+  const CapturedLog log;
+  Rs16LidarDecoder decoder(LidarConfig{});
+  PointBlock block;
+  rs16::DifopData first;
+  first.vertical_angles_deg = rs16::kDesignVerticalAnglesDeg;
+  rs16::DifopData other = first;
+  other.motor_rpm = 1200;
+  const auto first_bytes = rs16::encode_difop(first), other_bytes = rs16::encode_difop(other);
+  const std::uint32_t lidar = rs16::parse_ipv4("192.168.1.200");
+  EXPECT_FALSE(decoder.decode(LidarDatagram{1.0, lidar, 7788, 7788, first_bytes}, block));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_FALSE(decoder.decode(LidarDatagram{2.0 + i, lidar, 7788, 7788, other_bytes}, block));
+  PipelineCounters counters;
+  decoder.report(counters);
+  EXPECT_EQ(counters.lidar_difop_ignored.load(), 4);
+  const std::string text = log.text();
+  const std::string warning = "warning rs16: a DIFOP disagrees with the sensor configuration in use (motor speed)";
+  EXPECT_NE(text.find(warning), std::string::npos) << text;
+  EXPECT_EQ(text.find(warning, text.find(warning) + 1), std::string::npos) << "more than once:\n" << text;
+  EXPECT_EQ(text.find("motor speed 1200 rpm"), std::string::npos) << text;
 }
 
 }  // namespace

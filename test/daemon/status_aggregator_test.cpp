@@ -126,6 +126,7 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   counters_.imu_out_of_order_frames = 16;
   counters_.imu_rejected_samples = 17;
   counters_.scans_cut_at_bound = 18;
+  counters_.lidar_difop_ignored = 19;
   counters_.gyro_saturated_samples[1] = 4;
   counters_.imu_clock.offset_s = 0.25;
   for (int i = 0; i < 5; ++i) imu_ring_.push(i);
@@ -145,6 +146,7 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   EXPECT_EQ(status_.imu_out_of_order_frames, 16);
   EXPECT_EQ(status_.imu_rejected_samples, 17);
   EXPECT_EQ(status_.scans_cut_at_bound, 18);
+  EXPECT_EQ(status_.lidar_difop_ignored, 19);
   EXPECT_EQ(status_.gyro_saturated_samples[1], 4);
   EXPECT_EQ(status_.imu_clock_offset_s, 0.25);
   ASSERT_EQ(status_.num_rings, 2);

@@ -129,6 +129,16 @@ void stall_motor(std::vector<LidarRecord>& records, std::int64_t start_ns, const
   }
 }
 
+void recalibrate(std::vector<LidarRecord>& records, std::int64_t start_ns, const FaultPlan& plan,
+                 FaultCounts& counts) {
+  if (!plan.difop_change_at_s) return;
+  for (auto& r : records) {
+    if (r.kind != rs16::PacketKind::Difop || r.t_ns < start_ns + to_ns(*plan.difop_change_at_s)) continue;
+    counts.difop_recalibrated +=
+        recalibrate_difop(std::span<std::uint8_t>(r.frame.data() + r.payload_offset, r.payload_size));
+  }
+}
+
 // The lidar's own datagrams from the lead before the start, sent again from
 // kForeignLidarIp kSecondLidarSpeedup times as fast, their header times
 // moved to their new arrival, until the run ends.
@@ -237,6 +247,7 @@ std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t 
     }
   }
   stall_motor(out, start_ns, plan, counts);
+  recalibrate(out, start_ns, plan, counts);
   add_second_lidar(out, start_ns, plan, counts);
   delay_lidar(out, plan, counts);
   return out;
@@ -324,6 +335,7 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   p["imu_garbage"] = plan.imu_garbage;
   p["imu_nan"] = plan.imu_nan;
   if (plan.motor_stall) p["motor_stall"] = window_node(*plan.motor_stall, c.run_start_s);
+  if (plan.difop_change_at_s) p["difop_change_at_s"] = *plan.difop_change_at_s;
   if (plan.second_lidar) {
     p["second_lidar"]["at_s"] = plan.second_lidar->at_s;
     p["second_lidar"]["lead_s"] = plan.second_lidar->lead_s;
@@ -358,6 +370,7 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   n["imu_nan_frames"] = c.imu_nan_frames;
   n["lidar_stalled"] = c.lidar_stalled;
   n["lidar_second_sender"] = c.lidar_second_sender;
+  n["difop_recalibrated"] = c.difop_recalibrated;
   m["injected"] = n;
   PendingFile file(path);
   {

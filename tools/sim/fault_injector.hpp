@@ -35,6 +35,7 @@ struct FaultCounts {
   std::uint64_t imu_nan_frames = 0;        // MTData2 frames given a NaN rate of turn
   std::uint64_t lidar_stalled = 0;         // MSOP packets with the head held still
   std::uint64_t lidar_second_sender = 0;   // datagrams added from the second host
+  std::uint64_t difop_recalibrated = 0;    // DIFOPs given another calibration
   double run_start_s = 0.0;  // host time of the run's first record: T = 0 of the plan
 };
 

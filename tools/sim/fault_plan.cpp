@@ -45,6 +45,8 @@ void validate(const FaultPlan& plan) {
   check_chance("--imu-garbage", plan.imu_garbage);
   check_chance("--imu-nan", plan.imu_nan);
   check_window("--motor-stall", plan.motor_stall);
+  if (plan.difop_change_at_s && !(*plan.difop_change_at_s >= 0.0))
+    throw std::invalid_argument("--difop-change: needs T >= 0 (seconds)");
   if (plan.second_lidar && !(plan.second_lidar->at_s >= 0.0 && plan.second_lidar->lead_s > 0.0))
     throw std::invalid_argument("--second-lidar: needs T >= 0 and a lead L > 0 (seconds)");
   if (!(plan.lidar_delay_s >= 0.0 && plan.lidar_delay_s <= 1.0))

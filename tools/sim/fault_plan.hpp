@@ -43,6 +43,8 @@ struct FaultPlan {
   std::optional<FaultWindow> imu_gap;    // no serial read arrives
   std::optional<ClockJump> lidar_clock_jump;
   std::optional<FaultWindow> motor_stall;  // the lidar's head stands still, its lasers firing on
+  // From this time on the lidar's DIFOPs carry another calibration.
+  std::optional<double> difop_change_at_s;
   // A second host sends the lidar's own stream (a replay someone forgot to stop).
   std::optional<SecondLidar> second_lidar;
 };

@@ -191,6 +191,9 @@ int main(int argc, char** argv) {
                      "chance an MSOP packet is followed by one from 192.168.1.201");
   faults->add_option("--imu-garbage", fault_plan.imu_garbage, "chance a serial read is preceded by 1-40 garbage bytes");
   faults->add_option("--imu-nan", fault_plan.imu_nan, "chance a serial read's MTData2 frames carry a NaN rate of turn");
+  double difop_change_at_s = 0.0;
+  CLI::Option* difop_change_option = faults->add_option(
+      "--difop-change", difop_change_at_s, "T: from T s on the lidar's DIFOPs carry vertical angles 5 % steeper");
   std::string second_lidar;
   CLI::Option* second_lidar_option =
       faults->add_option("--second-lidar", second_lidar,
@@ -229,6 +232,7 @@ int main(int argc, char** argv) {
       if (lidar_gap_option->count() > 0) fault_plan.lidar_gap = parse_fault_window("--lidar-gap", lidar_gap);
       if (imu_gap_option->count() > 0) fault_plan.imu_gap = parse_fault_window("--imu-gap", imu_gap);
       if (motor_stall_option->count() > 0) fault_plan.motor_stall = parse_fault_window("--motor-stall", motor_stall);
+      if (difop_change_option->count() > 0) fault_plan.difop_change_at_s = difop_change_at_s;
       if (second_lidar_option->count() > 0)
         fault_plan.second_lidar = parse_second_lidar("--second-lidar", second_lidar);
       if (clock_jump_option->count() > 0)

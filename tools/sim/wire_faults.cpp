@@ -1,11 +1,14 @@
 #include "tools/sim/wire_faults.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <limits>
 
 #include "drivers/mti/message_ids.hpp"
 #include "drivers/mti/xbus_frame.hpp"
 #include "drivers/mti/xdi.hpp"
+#include "drivers/rs16/difop_decode.hpp"
+#include "drivers/rs16/difop_encode.hpp"
 #include "drivers/rs16/packet_layout.hpp"
 
 namespace tumble::sim {
@@ -45,6 +48,15 @@ bool poison_payload(std::span<std::uint8_t> payload) {
 bool stall_msop_azimuths(std::span<std::uint8_t> payload, std::uint16_t azimuth) {
   if (payload.size() != rs16::kPacketSize) return false;
   for (int b = 0; b < rs16::kBlocks; ++b) rs16::write_u16_be(payload, block_azimuth_offset(b), azimuth);
+  return true;
+}
+
+bool recalibrate_difop(std::span<std::uint8_t> payload) {
+  rs16::DifopInfo info;
+  if (rs16::decode_difop(payload, info) != rs16::PacketError::None || !info.angles_calibrated) return false;
+  for (double& angle : info.data.vertical_angles_deg) angle *= kRecalibratedAngleScale;
+  const auto bytes = rs16::encode_difop(info.data);
+  std::copy(bytes.begin(), bytes.end(), payload.begin());
   return true;
 }
 

@@ -12,6 +12,12 @@ namespace tumble::sim {
 // still while the lasers fired on. False when the payload is no MSOP packet.
 bool stall_msop_azimuths(std::span<std::uint8_t> payload, std::uint16_t azimuth);
 
+// A DIFOP payload with every vertical angle kRecalibratedAngleScale times as
+// steep: another calibration, as a second unit or a glitch would send. False
+// when the payload is no valid DIFOP with calibrated angles.
+inline constexpr double kRecalibratedAngleScale = 1.05;
+bool recalibrate_difop(std::span<std::uint8_t> payload);
+
 // The last block azimuth of an MSOP payload (where a stall would hold the head).
 std::uint16_t last_msop_azimuth(std::span<const std::uint8_t> payload);
 

@@ -16,6 +16,7 @@
 #include "drivers/pcap/pcap_file.hpp"
 #include "drivers/pcap/udp_frame.hpp"
 #include "drivers/rs16/difop_encode.hpp"
+#include "drivers/rs16/laser_geometry.hpp"
 #include "drivers/rs16/msop_encode.hpp"
 #include "drivers/rs16/packet_layout.hpp"
 #include "drivers/rs16/recording_writer.hpp"
@@ -23,6 +24,8 @@
 #include "test/temp_dir.hpp"
 #include "tools/sim/fault_injector.hpp"
 #include "tools/sim/run_writer.hpp"
+#include "tools/sim/wire_faults.hpp"
+#include "drivers/rs16/difop_decode.hpp"
 
 namespace tumble::sim {
 namespace {
@@ -72,6 +75,7 @@ fs::path write_small_run(const fs::path& dir) {
       lidar.write(t, rs16::PacketKind::Msop, msop(i));
       rs16::DifopData difop;
       difop.utc_time_ns = t;
+      difop.vertical_angles_deg = rs16::kDesignVerticalAnglesDeg;
       if (i % 84 == 0) lidar.write(t + 1000, rs16::PacketKind::Difop, rs16::encode_difop(difop));
     }
   }
@@ -348,6 +352,23 @@ TEST_F(FaultInjector, ASecondLidarSendsTheStreamFromEarlierFasterAndRestampedFro
   }
   EXPECT_EQ(second, c.lidar_second_sender);
   EXPECT_NEAR(static_cast<double>(second), 0.6 * kSecondLidarSpeedup / 1.2e-3, 10.0);  // MSOP, and a DIFOP or so
+}
+
+TEST_F(FaultInjector, ADifopChangeSteepensTheAnglesOfTheDifopsFromItsMomentOn) {
+  FaultPlan plan;
+  plan.difop_change_at_s = 0.5;
+  const FaultCounts c = inject(plan);
+  std::uint64_t changed = 0;
+  for (const auto& d : read_lidar(out() / kLidarPcapName)) {
+    if (d.dst_port != 7788) continue;
+    rs16::DifopInfo info;
+    ASSERT_EQ(rs16::decode_difop(d.payload, info), rs16::PacketError::None);
+    const bool after = d.t_ns >= kStartNs + 500'000'000;
+    EXPECT_NEAR(info.data.vertical_angles_deg[0], -15.0 * (after ? kRecalibratedAngleScale : 1.0), 1e-3);
+    changed += after;
+  }
+  EXPECT_EQ(changed, c.difop_recalibrated);
+  EXPECT_GE(changed, 5u);
 }
 
 TEST_F(FaultInjector, LateDatagramsKeepTheirOrderAndBytesAndArriveNoEarlier) {
