@@ -120,5 +120,19 @@ TEST(ImuLimitsFromConfig, TheDevicesRangesReachTheSampleCheckInRadians) {
   EXPECT_DOUBLE_EQ(l.accel_range_m_s2, 50.0);
 }
 
+TEST(LidarDecoderConfigFromConfig, FollowingDifopChangesIsOffByDefaultAndReachesTheDecoder) {
+  EXPECT_FALSE(lidar_decoder_config(LidarConfig{}).follow_difop_changes);
+  const DaemonConfig config = load_config("lidar:\n  follow_difop_changes: true\n", "test.yaml");
+  EXPECT_TRUE(lidar_decoder_config(config.lidar).follow_difop_changes);
+}
+
+TEST(HealthKeysFromConfig, TheSecondLidarRateAndTheScanTimeoutLoadIntoTheHealthLimits) {
+  const DaemonConfig config = load_config(
+      "daemon:\n  health:\n    second_lidar_rate_hz: 100\n    scan_timeout_s: 0.8\n", "test.yaml");
+  EXPECT_DOUBLE_EQ(config.daemon.health.second_lidar_rate_hz, 100.0);
+  EXPECT_DOUBLE_EQ(config.daemon.health.scan_timeout_s, 0.8);
+  EXPECT_THROW(load_config("daemon:\n  health:\n    scan_timeout_s: 0\n", "test.yaml"), ConfigError);
+}
+
 }  // namespace
 }  // namespace tumble::daemon
