@@ -77,6 +77,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("clock", l.clock, Choice<LidarClock>{kClocks});
     v.field("vertical_angles_deg", l.vertical_angles_deg, Angles{16, Range{-25.0, 25.0}});
     v.field("follow_difop_changes", l.follow_difop_changes, AnyText{});
+    v.field("receive_buffer_bytes", l.receive_buffer_bytes, IntRange{65536, 1 << 30});
   });
   v.section("imu", [&] {
     auto& i = c.imu;

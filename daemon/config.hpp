@@ -44,6 +44,7 @@ struct LidarConfig {
   LidarClock clock = LidarClock::Free;
   std::vector<double> vertical_angles_deg;  // empty: from DIFOP; else 16 values, laser 0..15
   bool follow_difop_changes = false;  // false: the first calibrated DIFOP's settings hold for the run
+  int receive_buffer_bytes = 4 << 20;  // per socket; the kernel caps it at net.core.rmem_max
   bool operator==(const LidarConfig&) const = default;
 };
 

@@ -10,6 +10,10 @@ namespace tumble::daemon {
 
 namespace {
 
+// 750.75 MSOP packets of 1248 bytes a second (rs16.md, single return), with
+// the kernel's per-packet overhead about doubling what a buffer holds.
+constexpr double kMsopBytesPerSecond = 750.75 * 1248 * 2;
+
 std::uint16_t port_of(const rs16::SourceConfig& ports, rs16::PacketKind kind) {
   return kind == rs16::PacketKind::Msop ? ports.msop_port : ports.difop_port;
 }
@@ -22,10 +26,17 @@ LiveLidarSource::LiveLidarSource(boost::asio::io_context& io, const LidarConfig&
   udp.bind_address = config.bind_address;
   udp.ports = ports_;
   udp.ports.source_ip.reset();
+  udp.receive_buffer_bytes = config.receive_buffer_bytes;
   udp_ = std::make_unique<rs16::UdpSource>(io, udp, [this](const rs16::LidarDatagram& d) {
     if (!on_datagram_) return;
     on_datagram_(LidarDatagram{d.arrival_s, d.source_ip, port_of(ports_, d.kind), port_of(ports_, d.kind), d.payload});
   });
+  const int granted = udp_->granted_receive_buffer_bytes();
+  if (granted < config.receive_buffer_bytes)
+    spdlog::warn("lidar: the kernel granted {} KiB of socket receive buffer, below lidar.receive_buffer_bytes ({} KiB): "
+                 "a stall of the io thread longer than {:.2f} s loses lidar packets. Raise net.core.rmem_max "
+                 "(the package's /usr/lib/sysctl.d/60-tumble.conf, then `sysctl --system`)",
+                 granted / 1024, config.receive_buffer_bytes / 1024, granted / kMsopBytesPerSecond);
 }
 
 void LiveLidarSource::start(std::function<void(const LidarDatagram&)> on_datagram, std::function<void()>) {

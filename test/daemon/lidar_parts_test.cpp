@@ -6,6 +6,8 @@
 #include <gtest/gtest.h>
 #include <spdlog/spdlog.h>
 
+#include <boost/asio/io_context.hpp>
+#include <fstream>
 #include <memory>
 #include <sstream>
 #include <string>
@@ -132,6 +134,27 @@ TEST(Rs16LidarDecoder, ADifopThatDisagreesLaterIsWarnedAboutOnceAndCounted) {
   EXPECT_NE(text.find(warning), std::string::npos) << text;
   EXPECT_EQ(text.find(warning, text.find(warning) + 1), std::string::npos) << "more than once:\n" << text;
   EXPECT_EQ(text.find("motor speed 1200 rpm"), std::string::npos) << text;
+}
+
+TEST(LiveLidarSource, WarnsWhenTheKernelGrantsLessReceiveBufferThanConfigured) {
+  std::ifstream rmem_max("/proc/sys/net/core/rmem_max");
+  int cap = 0;
+  rmem_max >> cap;
+  if (cap <= 0 || cap > (1 << 29)) GTEST_SKIP() << "net.core.rmem_max unreadable or too large to exceed";
+  const CapturedLog log;
+  boost::asio::io_context io;
+  LidarConfig config;
+  config.bind_address = "127.0.0.1";
+  config.msop_port = config.difop_port = 0;  // any free ports
+  config.receive_buffer_bytes = cap / 2;
+  { const LiveLidarSource enough(io, config); }
+  EXPECT_EQ(log.text().find("granted"), std::string::npos) << log.text();
+  config.receive_buffer_bytes = 2 * cap;
+  { const LiveLidarSource capped(io, config); }
+  EXPECT_NE(log.text().find("warning lidar: the kernel granted " + std::to_string(cap / 1024) +
+                            " KiB of socket receive buffer, below lidar.receive_buffer_bytes"),
+            std::string::npos)
+      << log.text();
 }
 
 }  // namespace
