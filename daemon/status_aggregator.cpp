@@ -86,6 +86,8 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   in.imu_fresh = imu_silent_s <= health_.sensor_timeout_s;
   in.lidar_fresh = lidar_silent_s <= health_.sensor_timeout_s;
   in.lidar_silent_s = lidar_silent_s;
+  // Before the first scan nothing is late; after the input ended neither.
+  in.scan_silent_s = any_scan_reported_ && !input_ended_ ? seconds(now_ns - newest_scan_ns_) : 0.0;
   // Good scans before a silence, or before a spell without scans, say nothing of the pose after it.
   if (!in.lidar_fresh || in.scan_silent_s >= health_.scan_timeout_s) consecutive_good_scans_ = 0;
   in.fuser_initialised = fuser_initialised;
@@ -98,8 +100,6 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   if (state_ == HealthState::Lost && resets_in_period_ > 0) lost_at_resets_ = resets_seen_;
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
   in.second_lidar = !input_ended_ && foreign_lidar_rate_hz >= health_.second_lidar_rate_hz;
-  // Before the first scan nothing is late; after the input ended neither.
-  in.scan_silent_s = any_scan_reported_ && !input_ended_ ? seconds(now_ns - newest_scan_ns_) : 0.0;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
                             health_.lidar_silent_to_lost_s, health_.scan_timeout_s};
   const HealthTransition next = next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);

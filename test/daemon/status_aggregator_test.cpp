@@ -249,7 +249,7 @@ TEST_F(StatusAggregatorTest, ASecondLidarDegradesLiveAndOnSensorTime) {
 
 // The motor stalls with the lasers firing: points keep arriving, no scan completes.
 TEST_F(StatusAggregatorTest, LidarPointsWithoutScansDegradeOnSensorTimeAndLive) {
-  for (int i = 0; i < 3; ++i) {
+  for (int i = 0; i < 6; ++i) {  // more good scans than good_scans_to_recover
     reports_.push(registered_scan(true));
     evaluate_next_tick();
   }
@@ -261,6 +261,10 @@ TEST_F(StatusAggregatorTest, LidarPointsWithoutScansDegradeOnSensorTimeAndLive) 
   EXPECT_NE(log_.str().find("tracking -> degraded: no scan completed for daemon.health.scan_timeout_s"),
             std::string::npos)
       << log_.str();
+  // The motor turns again: the good scans from before the stall do not count toward recovering.
+  reports_.push(registered_scan(true));
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
 
   // Live, a scan's own completion time counts, not the tick that drained it.
   StatusAggregator live(HealthConfig{}, {}, {}, counters_, reports_, 0, logger_);
