@@ -3,7 +3,7 @@
 // the lidar's port, never another until a restart: a second host sending
 // well-formed RS-16 traffic (another robot's lidar, a forgotten replay)
 // must never take the lidar's place, however fast it sends. Choosing by
-// traffic (the busiest sender) let such a host become the lidar within
+// traffic (the busiest sender) would let such a host become the lidar within
 // seconds.
 #pragma once
 
