@@ -76,6 +76,8 @@ void visit_config(Visitor& v, Config& c) {
     v.field("max_range_m", l.max_range_m, Range{0.1, 300.0});
     v.field("clock", l.clock, Choice<LidarClock>{kClocks});
     v.field("vertical_angles_deg", l.vertical_angles_deg, Angles{16, Range{-25.0, 25.0}});
+    v.field("follow_difop_changes", l.follow_difop_changes, AnyText{});
+    v.field("receive_buffer_bytes", l.receive_buffer_bytes, IntRange{65536, 1 << 30});
   });
   v.section("imu", [&] {
     auto& i = c.imu;
@@ -92,6 +94,8 @@ void visit_config(Visitor& v, Config& c) {
     });
     v.field("gyro_noise_density_deg_s_sqrt_hz", i.gyro_noise_density_deg_s_sqrt_hz, Range{0.0, 10.0});
     v.field("accel_noise_density_ug_sqrt_hz", i.accel_noise_density_ug_sqrt_hz, Range{0.0, 100000.0});
+    v.field("gyro_range_deg_s", i.gyro_range_deg_s, Range{1.0, 10000.0});
+    v.field("accel_range_m_s2", i.accel_range_m_s2, Range{1.0, 10000.0});
   });
   v.section("fuser", [&] {
     auto& f = c.fuser;
@@ -184,12 +188,14 @@ void visit_config(Visitor& v, Config& c) {
       v.field("sensor_timeout_s", h.sensor_timeout_s, Range{0.01, 60.0});
       v.field("degraded_to_lost_s", h.degraded_to_lost_s, Range{0.0, 600.0});
       v.field("lidar_silent_to_lost_s", h.lidar_silent_to_lost_s, Range{0.1, 600.0});
+      v.field("scan_timeout_s", h.scan_timeout_s, Range{0.05, 600.0});
       v.field("good_scans_to_recover", h.good_scans_to_recover, IntRange{1, 1000});
       v.field("min_matched_ratio", h.min_matched_ratio, Range{0.0, 1.0});
       v.field("min_matched_ratio_spin_clipped", h.min_matched_ratio_spin_clipped, Range{0.0, 1.0});
       v.field("spin_clipped_scans_to_settle", h.spin_clipped_scans_to_settle, IntRange{0, 1000});
       v.field("min_degeneracy", h.min_degeneracy, Range{0.0, 1.0});
       v.field("max_expected_error_m", h.max_expected_error_m, Range{0.001, 10.0});
+      v.field("second_lidar_rate_hz", h.second_lidar_rate_hz, Range{1.0, 100000.0});
     });
   });
   v.section("record", [&] { v.field("dir", c.record.dir, AnyText{}); });

@@ -36,13 +36,15 @@ struct LidarConfig {
   std::string bind_address = "0.0.0.0";
   int msop_port = 6699;
   int difop_port = 7788;
-  std::string source_ip;  // empty: accept datagrams from any address
+  std::string source_ip;  // empty: the first sender of a well-formed MSOP datagram, for the whole run
   double split_azimuth_deg = 0.0;
   double min_scan_coverage = 0.9;  // fraction of a turn; shorter scans are skipped (and counted)
   double min_range_m = 0.4;
   double max_range_m = 200.0;
   LidarClock clock = LidarClock::Free;
   std::vector<double> vertical_angles_deg;  // empty: from DIFOP; else 16 values, laser 0..15
+  bool follow_difop_changes = false;  // false: the first calibrated DIFOP's settings hold for the run
+  int receive_buffer_bytes = 4 << 20;  // per socket; the kernel caps it at net.core.rmem_max
   bool operator==(const LidarConfig&) const = default;
 };
 
@@ -63,6 +65,9 @@ struct ImuConfig {
   ExtrinsicConfig extrinsic_T_LI;
   double gyro_noise_density_deg_s_sqrt_hz = 0.03;
   double accel_noise_density_ug_sqrt_hz = 60.0;
+  // The device's range per axis (MTi-30 G4, A8): samples beyond 1.5 times it are rejected.
+  double gyro_range_deg_s = 450.0;
+  double accel_range_m_s2 = 200.0;
   bool operator==(const ImuConfig&) const = default;
 };
 
@@ -146,12 +151,14 @@ struct HealthConfig {
   double sensor_timeout_s = 0.2;
   double degraded_to_lost_s = 3.0;
   double lidar_silent_to_lost_s = 1.0;
+  double scan_timeout_s = 0.5;  // lidar points but no scan completed this long: stale
   int good_scans_to_recover = 5;
   double min_matched_ratio = 0.25;
   double min_matched_ratio_spin_clipped = 0.3;
   int spin_clipped_scans_to_settle = 3;
   double min_degeneracy = 0.0005;
   double max_expected_error_m = 0.04;
+  double second_lidar_rate_hz = 375.0;  // foreign datagrams/s to the MSOP port that are a second lidar
   bool operator==(const HealthConfig&) const = default;
 };
 

@@ -191,6 +191,15 @@ CoreRegistrationStage::CoreRegistrationStage(const OdometryParams& params, const
                      fault_log_.warn("lost packets", scan.points.back().t_s,
                                      "lidar: scan {} lost {} MSOP packets; {} so far", scan.index,
                                      scan.missing_packets, assembly_stats_.missing_packets);
+                   if (report.cut_at_bound) {
+                     // Not a turn of the head: the motor stalled or slowed, or the azimuths are corrupt.
+                     fault_log_.warn("cut scan", scan.points.back().t_s,
+                                     "lidar: scan {} ran {} revolutions at {} rpm ({} points) without passing the "
+                                     "split azimuth (motor stalled?): cut and skipped; {} so far",
+                                     scan.index, rs16::kMaxScanRevolutions, rs16::kSlowestRpm, scan.points.size(),
+                                     assembly_stats_.scans_cut_at_bound);
+                     return;
+                   }
                    if (report.short_coverage) {
                      // Registered as if whole, a part of a turn weighs too little
                      // against the map and may slide along it. The first scan
@@ -253,6 +262,7 @@ void CoreRegistrationStage::report(PipelineCounters& counters) const {
   counters.lidar_late_packets_dropped.store(static_cast<std::int64_t>(assembly_stats_.late_packets_dropped),
                                             relaxed);
   counters.scans_short_coverage.store(static_cast<std::int64_t>(assembly_stats_.scans_short_coverage), relaxed);
+  counters.scans_cut_at_bound.store(static_cast<std::int64_t>(assembly_stats_.scans_cut_at_bound), relaxed);
 }
 
 void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,

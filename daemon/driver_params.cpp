@@ -90,6 +90,7 @@ rs16::DecoderConfig lidar_decoder_config(const LidarConfig& lidar) {
   d.min_range_m = lidar.min_range_m;
   d.max_range_m = lidar.max_range_m;
   d.clock = lidar.clock == LidarClock::Synced ? rs16::ClockMode::Synced : rs16::ClockMode::Free;
+  d.follow_difop_changes = lidar.follow_difop_changes;
   if (!lidar.vertical_angles_deg.empty()) {
     std::array<double, rs16::kLasers> angles{};
     std::copy_n(lidar.vertical_angles_deg.begin(), rs16::kLasers, angles.begin());
@@ -117,6 +118,10 @@ mti::MtiStreamOptions imu_stream_options(const ImuConfig& imu) {
   o.baud = static_cast<std::uint32_t>(imu.baud);
   o.imu_time_offset_s = imu.imu_time_offset_s;
   return o;
+}
+
+ImuLimits imu_limits(const ImuConfig& imu) {
+  return ImuLimits{imu.gyro_range_deg_s * kDegToRad, imu.accel_range_m_s2};
 }
 
 mti::SerialSourceOptions serial_source_options(const ImuConfig& imu) {

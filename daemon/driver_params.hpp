@@ -5,6 +5,7 @@
 
 #include "core/scan_registration.hpp"
 #include "daemon/config.hpp"
+#include "daemon/imu_sample_check.hpp"
 #include "drivers/mti/mti_stream.hpp"
 #include "drivers/mti/serial_source.hpp"
 #include "drivers/rs16/decoder.hpp"
@@ -21,5 +22,6 @@ rs16::ScanAssemblerConfig scan_assembler_config(const LidarConfig& lidar);
 
 mti::MtiStreamOptions imu_stream_options(const ImuConfig& imu);
 mti::SerialSourceOptions serial_source_options(const ImuConfig& imu);
+ImuLimits imu_limits(const ImuConfig& imu);
 
 }  // namespace tumble::daemon

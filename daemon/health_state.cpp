@@ -68,10 +68,19 @@ std::string_view reason_of(ScanVerdict verdict) {
   return {};
 }
 
-std::string_view stale_sensor(const HealthInputs& in) {
+// Ignored, but a restart without lidar.source_ip may lock onto it, and a
+// host that sends at a lidar's rate may be spoofing the lidar's address too.
+constexpr std::string_view kSecondLidar =
+    "a second host sends lidar traffic at a lidar's rate: ignored, but set lidar.source_ip or find the sender";
+
+constexpr std::string_view kNoScan =
+    "no scan completed for daemon.health.scan_timeout_s: lidar points arrive but make no scan, as from a stalled motor";
+
+std::string_view stale_sensor(const HealthInputs& in, const HealthLimits& limits) {
   if (!in.imu_fresh && !in.lidar_fresh) return "no IMU and no lidar data";
   if (!in.imu_fresh) return "no IMU data";
   if (!in.lidar_fresh) return "no lidar data";
+  if (in.scan_silent_s >= limits.scan_timeout_s) return kNoScan;
   return {};
 }
 
@@ -79,7 +88,7 @@ std::string_view stale_sensor(const HealthInputs& in) {
 
 HealthTransition next_health_state(HealthState current, double time_in_state_s, const HealthInputs& in,
                                    const HealthLimits& limits) {
-  const std::string_view stale = stale_sensor(in);
+  const std::string_view stale = stale_sensor(in, limits);
   const bool fresh = stale.empty();
   using S = HealthState;
   if ((current == S::Tracking || current == S::Degraded || current == S::Lost) && !in.fuser_initialised)
@@ -101,16 +110,21 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
       if (!fresh) return {S::Degraded, stale};
       if (in.worst_scan_in_period != ScanVerdict::Good) return {S::Degraded, reason_of(in.worst_scan_in_period)};
       if (in.data_dropped) return {S::Degraded, "data dropped"};
+      if (in.second_lidar) return {S::Degraded, kSecondLidar};
       break;
-    case S::Degraded:
-      if (fresh && !in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)
-        return {S::Tracking, "registration good again"};
+    case S::Degraded: {
+      const bool scans_good = fresh && !in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover;
+      if (scans_good && !in.second_lidar) return {S::Tracking, "registration good again"};
+      // The pose is the lidar's and good: the second sender alone keeps it degraded, never lost.
+      if (scans_good) return {S::Degraded, kSecondLidar, true};
       if (time_in_state_s >= limits.degraded_to_lost_s) return {S::Lost, "degraded for too long"};
       if (!fresh) return {S::Degraded, stale};  // still degraded, and a sensor is why: say so
+      if (in.second_lidar) return {S::Degraded, kSecondLidar};
       // A specific reason is restated; a poor registration is what degraded means.
       if (in.worst_scan_in_period > ScanVerdict::PoorRegistration)
         return {S::Degraded, reason_of(in.worst_scan_in_period)};
       break;
+    }
     case S::Lost:
       if (!fresh) break;
       if (in.new_map_since_lost) return {S::Initialising, "re-initialised: new local map"};

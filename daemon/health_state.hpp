@@ -3,9 +3,10 @@
 //   WAITING_FOR_SENSORS --both sensors fresh--> INITIALISING
 //   INITIALISING --a sensor stale--> WAITING_FOR_SENSORS
 //   INITIALISING --fuser initialised and a good scan registered--> TRACKING
-//   TRACKING --a sensor stale, a bad scan, or data dropped--> DEGRADED
-//   DEGRADED --sensors fresh, nothing dropped, good_scans_to_recover
-//              consecutive good scans--> TRACKING
+//   TRACKING --a sensor stale, a bad scan, data dropped, or a second lidar
+//              on the network--> DEGRADED
+//   DEGRADED --sensors fresh, nothing dropped, no second lidar,
+//              good_scans_to_recover consecutive good scans--> TRACKING
 //   DEGRADED --degraded for degraded_to_lost_s--> LOST
 //   TRACKING, DEGRADED --no lidar data for lidar_silent_to_lost_s--> LOST
 //              (the registration starts a new local map on the next scan)
@@ -23,7 +24,12 @@
 // LOST is never terminal: the registration thread re-initialises by itself
 // (a new local map continuing the last pose, core_stages.hpp), and a map that
 // was kept can be tracked against again.
-// "Fresh": data arrived within daemon.health.sensor_timeout_s. "Good scan":
+// "Fresh": data arrived within daemon.health.sensor_timeout_s: a valid IMU
+// sample, a lidar datagram that gave points. Lidar points that complete no
+// scan for scan_timeout_s (a stalled motor with its lasers firing) are a
+// stale lidar too, with their own reason: degraded, then lost after
+// degraded_to_lost_s (the first scan after a gap of lidar_silent_to_lost_s
+// starts a new local map, a reset). "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
 // not a jump from the prediction (registration.jump_sigmas), the IMU over the scan,
 // where the gyro was clipped about the lidar's spin axis past the spin's first spin_clipped_scans_to_settle scans
@@ -69,17 +75,23 @@ struct HealthInputs {
   int resets_in_period = 0;          // local maps given up
   std::string_view reset_reason;     // of the newest of them
   bool new_map_since_lost = false;   // a scan started a new local map after the reset that lost track
+  bool second_lidar = false;         // another host sends to the lidar's port at a lidar's rate
+  double scan_silent_s = 0.0;        // since the newest scan completed (registered or not)
 };
 
 struct HealthLimits {
   double degraded_to_lost_s = 3.0;
   int good_scans_to_recover = 5;
   double lidar_silent_to_lost_s = 1.0;
+  double scan_timeout_s = 0.5;
 };
 
 struct HealthTransition {
   HealthState state;
   std::string_view reason;  // empty when nothing changes; set when only the reason does (a stale sensor)
+  // Degraded for a second lidar alone, the scans good: degraded_to_lost_s
+  // measures how long the pose has been doubtful, so its clock starts again.
+  bool pose_good = false;
 };
 
 // The next state, given the current one and how long it has lasted.

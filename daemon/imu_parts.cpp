@@ -4,8 +4,10 @@
 
 namespace tumble::daemon {
 
-void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, PipelineCounters& counters) {
+void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, const ImuSampleGate& gate,
+                PipelineCounters& counters) {
   constexpr auto relaxed = std::memory_order_relaxed;
+  counters.imu_rejected_samples.store(gate.rejected(), relaxed);
   counters.imu_frames.store(static_cast<std::int64_t>(stats.frames.frames), relaxed);
   counters.imu_bad_frames.store(static_cast<std::int64_t>(stats.frames.bad_frames()), relaxed);
   counters.imu_gaps.store(static_cast<std::int64_t>(stats.sample_time_gaps + stats.packet_counter_gaps), relaxed);
@@ -38,17 +40,18 @@ void ImuFaultLog::check(const mti::MtiStats& stats, double now_s) {
   }
 }
 
-MtiByteDecoder::MtiByteDecoder(const ImuConfig& config) : stream_(imu_stream_options(config)) {}
+MtiByteDecoder::MtiByteDecoder(const ImuConfig& config)
+    : stream_(imu_stream_options(config)), gate_(imu_limits(config)) {}
 
 void MtiByteDecoder::decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) {
   samples_.clear();
   stream_.feed(bytes.bytes, bytes.arrival_s, samples_);
   faults_.check(stream_.stats(), bytes.arrival_s);
-  for (const ImuSample& sample : samples_) emit(sample);
+  for (const ImuSample& sample : samples_) gate_.pass(sample, bytes.arrival_s, emit);
 }
 
 void MtiByteDecoder::report(PipelineCounters& counters) const {
-  report_imu(stream_.stats(), stream_.time_mapper(), counters);
+  report_imu(stream_.stats(), stream_.time_mapper(), gate_, counters);
 }
 
 LiveImuSource::LiveImuSource(boost::asio::io_context& io, const ImuConfig& config, std::shared_ptr<SerialReads> reads)
@@ -72,13 +75,16 @@ void LiveImuSource::stop() {
   on_bytes_ = nullptr;
 }
 
+SerialSampleDecoder::SerialSampleDecoder(const ImuConfig& config, std::shared_ptr<SerialReads> reads)
+    : reads_(std::move(reads)), gate_(imu_limits(config)) {}
+
 void SerialSampleDecoder::decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) {
   faults_.check(reads_->port->stats(), bytes.arrival_s);
-  for (const ImuSample& sample : reads_->samples) emit(sample);
+  for (const ImuSample& sample : reads_->samples) gate_.pass(sample, bytes.arrival_s, emit);
 }
 
 void SerialSampleDecoder::report(PipelineCounters& counters) const {
-  report_imu(reads_->port->stats(), reads_->port->time_mapper(), counters);
+  report_imu(reads_->port->stats(), reads_->port->time_mapper(), gate_, counters);
 }
 
 }  // namespace tumble::daemon

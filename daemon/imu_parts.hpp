@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "daemon/config.hpp"
+#include "daemon/imu_sample_check.hpp"
 #include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "drivers/mti/mti_stream.hpp"
@@ -18,7 +19,8 @@
 
 namespace tumble::daemon {
 
-void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, PipelineCounters& counters);
+void report_imu(const mti::MtiStats& stats, const mti::TimeMapper& clock, const ImuSampleGate& gate,
+                PipelineCounters& counters);
 
 // Names each fault of the serial stream in the log as it appears (data time),
 // once per period and fault: garbage between frames (after the first good
@@ -44,6 +46,7 @@ class MtiByteDecoder : public ImuDecoder {
   mti::MtiStream stream_;
   std::vector<ImuSample> samples_;
   ImuFaultLog faults_;
+  ImuSampleGate gate_;
 };
 
 // What the live source and its decoder share (both on the io thread).
@@ -65,13 +68,14 @@ class LiveImuSource : public ImuByteSource {
 
 class SerialSampleDecoder : public ImuDecoder {
  public:
-  explicit SerialSampleDecoder(std::shared_ptr<SerialReads> reads) : reads_(std::move(reads)) {}
+  SerialSampleDecoder(const ImuConfig& config, std::shared_ptr<SerialReads> reads);
   void decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) override;
   void report(PipelineCounters& counters) const override;
 
  private:
   std::shared_ptr<SerialReads> reads_;
   ImuFaultLog faults_;
+  ImuSampleGate gate_;
 };
 
 }  // namespace tumble::daemon

@@ -10,6 +10,10 @@ namespace tumble::daemon {
 
 namespace {
 
+// 750.75 MSOP packets of 1248 bytes a second (rs16.md, single return), with
+// the kernel's per-packet overhead about doubling what a buffer holds.
+constexpr double kMsopBytesPerSecond = 750.75 * 1248 * 2;
+
 std::uint16_t port_of(const rs16::SourceConfig& ports, rs16::PacketKind kind) {
   return kind == rs16::PacketKind::Msop ? ports.msop_port : ports.difop_port;
 }
@@ -22,10 +26,17 @@ LiveLidarSource::LiveLidarSource(boost::asio::io_context& io, const LidarConfig&
   udp.bind_address = config.bind_address;
   udp.ports = ports_;
   udp.ports.source_ip.reset();
+  udp.receive_buffer_bytes = config.receive_buffer_bytes;
   udp_ = std::make_unique<rs16::UdpSource>(io, udp, [this](const rs16::LidarDatagram& d) {
     if (!on_datagram_) return;
     on_datagram_(LidarDatagram{d.arrival_s, d.source_ip, port_of(ports_, d.kind), port_of(ports_, d.kind), d.payload});
   });
+  const int granted = udp_->granted_receive_buffer_bytes();
+  if (granted < config.receive_buffer_bytes)
+    spdlog::warn("lidar: the kernel granted {} KiB of socket receive buffer, below lidar.receive_buffer_bytes ({} KiB): "
+                 "a stall of the io thread longer than {:.2f} s loses lidar packets. Raise net.core.rmem_max "
+                 "(the package's /usr/lib/sysctl.d/60-tumble.conf, then `sysctl --system`)",
+                 granted / 1024, config.receive_buffer_bytes / 1024, granted / kMsopBytesPerSecond);
 }
 
 void LiveLidarSource::start(std::function<void(const LidarDatagram&)> on_datagram, std::function<void()>) {
@@ -39,43 +50,48 @@ void LiveLidarSource::stop() {
 }
 
 Rs16LidarDecoder::Rs16LidarDecoder(const LidarConfig& config)
-    : source_(lidar_source_config(config)), decoder_(lidar_decoder_config(config)), fault_log_(1, 10.0) {}
+    : source_(lidar_source_config(config)),
+      decoder_(lidar_decoder_config(config)),
+      lidar_(source_.source_ip),
+      fault_log_(1, 10.0) {}
 
 bool Rs16LidarDecoder::decode(const LidarDatagram& datagram, PointBlock& block) {
+  foreign_msop_rate_.advance(datagram.arrival_s);
   const std::optional<rs16::PacketKind> kind = rs16::kind_for_port(source_, datagram.dst_port);
-  bool wrong_sender = false;
-  if (source_.source_ip) {
-    wrong_sender = datagram.src_ip != *source_.source_ip;
-  } else if (kind) {
-    wrong_sender = !sender_.observe(datagram.src_ip, datagram.arrival_s);
-    if (sender_.changed())
-      spdlog::info("lidar: taking datagrams from {} as the lidar's (the busiest sender; lidar.source_ip not set)",
-                   rs16::format_ipv4(*sender_.lidar()));
-  }
-  if (!kind || wrong_sender) {
-    ++foreign_;
-    fault_log_.warn("foreign", datagram.arrival_s,
-                    "lidar: ignoring datagrams from {} to port {} (lidar.source_ip {}, ports {}/{}); {} so far",
-                    rs16::format_ipv4(datagram.src_ip), datagram.dst_port,
-                    source_.source_ip    ? rs16::format_ipv4(*source_.source_ip)
-                    : sender_.lidar() ? "not set, the lidar is the busiest sender " + rs16::format_ipv4(*sender_.lidar())
-                                      : std::string("not set"),
-                    source_.msop_port, source_.difop_port, foreign_);
+  if (!kind || !lidar_.may_be_lidar(datagram.src_ip)) {
+    if (kind == rs16::PacketKind::Msop) foreign_msop_rate_.count();
+    ignore(datagram);
     return false;
   }
   if (*kind == rs16::PacketKind::Difop) {
     decoder_.decode_difop(datagram.payload, stats_);
     return false;
   }
+  const std::uint64_t bad_before = stats_.bad_msop.total();
   const double offset_before_s = decoder_.clock().offset_s();
   const bool decoded = decoder_.decode_msop(datagram.payload, datagram.arrival_s, block, stats_);
+  if (stats_.bad_msop.total() == bad_before && lidar_.lock_on(datagram.src_ip))
+    spdlog::info("lidar: the lidar is {}, the first sender of MSOP datagrams (lidar.source_ip not set); datagrams "
+                 "from any other address are ignored until tumbled restarts",
+                 rs16::format_ipv4(datagram.src_ip));
   if (decoder_.clock().resets() > clock_resets_) {
     clock_resets_ = decoder_.clock().resets();
     fault_log_.warn("clock jump", datagram.arrival_s,
-                      "lidar: header clock jumped by {:+.3f} s against arrival times: clock mapping restarted; {} so far",
-                      offset_before_s - decoder_.clock().offset_s(), clock_resets_);
+                    "lidar: header clock jumped by {:+.3f} s against arrival times: clock mapping restarted; {} so far",
+                    offset_before_s - decoder_.clock().offset_s(), clock_resets_);
   }
   return decoded;
+}
+
+void Rs16LidarDecoder::ignore(const LidarDatagram& datagram) {
+  ++foreign_;
+  const std::string lidar = !lidar_.lidar()        ? std::string("none yet")
+                            : source_.source_ip ? rs16::format_ipv4(*lidar_.lidar()) + " (lidar.source_ip)"
+                                                : rs16::format_ipv4(*lidar_.lidar()) + " (the first sender)";
+  fault_log_.warn("foreign", datagram.arrival_s,
+                  "lidar: ignoring datagrams from {} to port {} (the lidar is {}, ports {}/{}); {} so far",
+                  rs16::format_ipv4(datagram.src_ip), datagram.dst_port, lidar, source_.msop_port,
+                  source_.difop_port, foreign_);
 }
 
 void Rs16LidarDecoder::report(PipelineCounters& counters) const {
@@ -84,6 +100,8 @@ void Rs16LidarDecoder::report(PipelineCounters& counters) const {
   counters.lidar_bad_packets.store(static_cast<std::int64_t>(stats_.bad_msop.total() + stats_.bad_difop.total()),
                                    relaxed);
   counters.lidar_foreign_packets.store(foreign_, relaxed);
+  counters.lidar_difop_ignored.store(static_cast<std::int64_t>(stats_.difop_ignored), relaxed);
+  counters.lidar_foreign_rate_hz.store(foreign_msop_rate_.rate_hz(), relaxed);
   const rs16::LidarClockMapper& clock = decoder_.clock();
   if (clock.started()) {
     counters.lidar_clock.offset_s.store(clock.offset_s(), relaxed);

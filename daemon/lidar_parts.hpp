@@ -8,8 +8,9 @@
 #include <memory>
 #include <optional>
 
-#include "daemon/busiest_sender.hpp"
 #include "daemon/config.hpp"
+#include "daemon/datagram_rate.hpp"
+#include "daemon/lidar_identity.hpp"
 #include "daemon/rate_limited_log.hpp"
 #include "daemon/seams.hpp"
 #include "drivers/rs16/decoder.hpp"
@@ -19,9 +20,9 @@
 
 namespace tumble::daemon {
 
-// Both lidar ports, any sender: the decoder filters by lidar.source_ip (or,
-// without it, takes the busiest sender as the lidar) so that foreign
-// datagrams are counted and reported in one place.
+// Both lidar ports, any sender: the decoder keeps to the lidar
+// (lidar_identity.hpp) so that foreign datagrams are counted and reported in
+// one place.
 class LiveLidarSource : public LidarDatagramSource {
  public:
   // Binds the sockets; throws std::runtime_error naming the address and port.
@@ -45,7 +46,10 @@ class Rs16LidarDecoder : public LidarDecoder {
   rs16::SourceConfig source_;
   rs16::Decoder decoder_;
   rs16::DecoderStats stats_;
-  BusiestSender sender_;  // the lidar, when lidar.source_ip is not set
+  void ignore(const LidarDatagram& datagram);
+
+  LidarIdentity lidar_;
+  DatagramRate foreign_msop_rate_;
   std::int64_t foreign_ = 0;
   std::uint64_t clock_resets_ = 0;
   RateLimitedLog fault_log_;  // foreign datagrams, header clock jumps

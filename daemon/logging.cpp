@@ -1,5 +1,7 @@
 #include "daemon/logging.hpp"
 
+#include <spdlog/async.h>
+#include <spdlog/async_logger.h>
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -58,8 +60,11 @@ spdlog::level::level_enum to_spdlog(LogLevel level) {
 
 }  // namespace
 
-void configure_logging(LogLevel level) {
-  auto logger = spdlog::stderr_color_mt("tumbled");
+AsyncLogging::AsyncLogging(LogLevel level) {
+  spdlog::init_thread_pool(kQueueLines, 1);
+  auto logger = std::make_shared<spdlog::async_logger>("tumbled", std::make_shared<spdlog::sinks::stderr_color_sink_mt>(),
+                                                       spdlog::thread_pool(),
+                                                       spdlog::async_overflow_policy::overrun_oldest);
   auto formatter = std::make_unique<spdlog::pattern_formatter>();
   if (stderr_is_journal()) {
     formatter->add_flag<SyslogPriorityFlag>('*').set_pattern("%*%v");
@@ -71,5 +76,8 @@ void configure_logging(LogLevel level) {
   logger->flush_on(spdlog::level::warn);
   spdlog::set_default_logger(logger);
 }
+
+// The thread pool writes out its queue before it stops.
+AsyncLogging::~AsyncLogging() { spdlog::shutdown(); }
 
 }  // namespace tumble::daemon

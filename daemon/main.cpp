@@ -40,17 +40,22 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  configure_logging(config.daemon.log_level);
   try {
-    ShutdownSignals signals;  // before any thread starts, so every thread inherits the mask
-    lcm::LCM lcm(config.lcm.url);
-    if (!lcm.good()) {
-      spdlog::error("lcm.url: LCM cannot start on {}", config.lcm.url);
+    ShutdownSignals signals;  // before any thread starts (the logger's too), so every thread inherits the mask
+    const AsyncLogging logging(config.daemon.log_level);
+    try {
+      lcm::LCM lcm(config.lcm.url);
+      if (!lcm.good()) {
+        spdlog::error("lcm.url: LCM cannot start on {}", config.lcm.url);
+        return 1;
+      }
+      return run_daemon(config, run_options(command_line), lcm, signals, make_sensor_parts);
+    } catch (const std::exception& e) {
+      spdlog::critical("{}", e.what());
       return 1;
     }
-    return run_daemon(config, run_options(command_line), lcm, signals, make_sensor_parts);
-  } catch (const std::exception& e) {
-    spdlog::critical("{}", e.what());
+  } catch (const std::exception& e) {  // before logging started
+    fmt::print(stderr, "tumbled: {}\n", e.what());
     return 1;
   }
 }

@@ -79,6 +79,7 @@ void Pipeline::start(PipelineParts parts, std::function<void()> wake_main) {
   emit_imu_ = [this](const ImuSample& sample) {
     wait_for_room(imu_, &io_blocked_on_imu_);
     newest_imu_s_ = imu_bytes_arrival_s_;
+    counters_.last_imu_steady_ns.store(imu_bytes_steady_ns_, std::memory_order_relaxed);
     imu_.push(ImuArrival{sample, imu_bytes_steady_ns_});
     fuser_wakeup_.notify();
   };
@@ -169,7 +170,8 @@ void Pipeline::advance_sensor_time(double t_s) {
   // Integer tick numbers: no drift from adding up the period.
   for (double tick_s = static_cast<double>(next_tick_) * kHealthPeriod_s; t_s >= tick_s;
        tick_s = static_cast<double>(++next_tick_) * kHealthPeriod_s) {
-    ticks_in_.push(SensorTimeTick{tick_s, newest_imu_s_, newest_lidar_s_, lidar_.pushed(), 0});
+    ticks_in_.push(SensorTimeTick{tick_s, newest_imu_s_, newest_lidar_s_, lidar_.pushed(), 0,
+                                  counters_.lidar_foreign_rate_hz.load(std::memory_order_relaxed)});
     pushed = true;
   }
   if (pushed) registration_wakeup_.notify();
@@ -177,7 +179,6 @@ void Pipeline::advance_sensor_time(double t_s) {
 
 void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
   advance_sensor_time(datagram.arrival_s);
-  counters_.last_lidar_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
   if (parts_.recorder) parts_.recorder->record_lidar(datagram);
   wait_for_room(lidar_, &io_blocked_on_lidar_);
   const bool has_points =
@@ -185,6 +186,7 @@ void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
   parts_.lidar_decoder->report(counters_);
   if (has_points) {
     newest_lidar_s_ = datagram.arrival_s;
+    counters_.last_lidar_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
     registration_wakeup_.notify();
   }
 }
@@ -193,7 +195,6 @@ void Pipeline::on_imu_bytes(const ImuBytes& bytes) {
   advance_sensor_time(bytes.arrival_s);
   imu_bytes_arrival_s_ = bytes.arrival_s;
   imu_bytes_steady_ns_ = steady_now_ns();
-  counters_.last_imu_steady_ns.store(imu_bytes_steady_ns_, std::memory_order_relaxed);
   if (parts_.recorder) parts_.recorder->record_imu(bytes);
   parts_.imu_decoder->decode(bytes, emit_imu_);
   parts_.imu_decoder->report(counters_);
@@ -334,7 +335,7 @@ bool Pipeline::trajectory_may_still_come(std::int64_t scan_complete_steady_ns, d
         counters_.imu_samples.load(std::memory_order_acquire) == static_cast<std::int64_t>(imu_.pushed());
     return !(io_cannot_deliver && fuser_done);
   }
-  // Live: bounded, and not at all while the IMU is silent. Waiting out the
+  // Live: bounded, and not at all while no valid IMU sample comes. Waiting out the
   // bound on every scan of an IMU outage put the registration 0.1 s further
   // behind per scan, and a 2 s unplug overflowed the lidar ring.
   const std::int64_t now = steady_now_ns();

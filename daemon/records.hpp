@@ -154,6 +154,7 @@ struct SensorTimeTick {
   double newest_lidar_s = -1.0;
   std::uint64_t lidar_items = 0;   // lidar ring pushes before this tick
   std::uint64_t scan_reports = 0;  // scan reports pushed before this tick (set by the registration thread)
+  double foreign_lidar_rate_hz = 0.0;  // PipelineCounters::lidar_foreign_rate_hz at this tick
 };
 
 }  // namespace tumble::daemon

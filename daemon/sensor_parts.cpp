@@ -40,7 +40,7 @@ PipelineParts make_sensor_parts(boost::asio::io_context& io, const DaemonConfig&
   auto reads = std::make_shared<SerialReads>();
   parts.lidar_source = std::make_unique<LiveLidarSource>(io, config.lidar);
   parts.imu_source = std::make_unique<LiveImuSource>(io, config.imu, reads);
-  parts.imu_decoder = std::make_unique<SerialSampleDecoder>(reads);
+  parts.imu_decoder = std::make_unique<SerialSampleDecoder>(config.imu, reads);
   if (!config.record.dir.empty())
     parts.recorder = std::make_unique<PcapRecorder>(config.record.dir, lidar_source_config(config.lidar));
   return parts;

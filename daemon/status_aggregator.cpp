@@ -44,14 +44,17 @@ StatusAggregator::StatusAggregator(const HealthConfig& health, std::vector<std::
   stage_ms_.resize(stage_names_.size());
 }
 
-void StatusAggregator::drain_scan_reports(std::uint64_t until) {
-  while (reports_consumed_ < until && scan_reports_.pop_with([this](const RegistrationRecord& r) {
+void StatusAggregator::drain_scan_reports(std::uint64_t until, std::int64_t now_ns) {
+  while (reports_consumed_ < until && scan_reports_.pop_with([this, now_ns](const RegistrationRecord& r) {
     const std::size_t stages = std::min<std::size_t>(r.num_stages, stage_ms_.size());
     for (std::size_t i = 0; i < stages; ++i) stage_ms_[i].add(r.stage_ms[i]);
     iterations_.add(static_cast<float>(r.iterations));
     inlier_ratio_.add(r.inlier_ratio);
     degeneracy_.add(r.degeneracy);
     any_scan_reported_ = true;
+    // Live, the health clock ticks once per status period: the scan's own completion time is finer.
+    const bool stamped = !on_sensor_time_ && r.scan_complete_steady_ns != 0;
+    newest_scan_ns_ = std::max(newest_scan_ns_, stamped ? r.scan_complete_steady_ns : now_ns);
     if (r.resets > resets_seen_) {
       resets_in_period_ += r.resets - resets_seen_;
       resets_seen_ = r.resets;
@@ -76,15 +79,17 @@ std::uint64_t StatusAggregator::sensor_drops() const {
 }
 
 void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s,
-                                       bool fuser_initialised) {
+                                       bool fuser_initialised, double foreign_lidar_rate_hz) {
   const std::uint64_t drops = sensor_drops();
   if (input_ended_) imu_silent_s = lidar_silent_s = 0.0;
   HealthInputs in;
   in.imu_fresh = imu_silent_s <= health_.sensor_timeout_s;
   in.lidar_fresh = lidar_silent_s <= health_.sensor_timeout_s;
   in.lidar_silent_s = lidar_silent_s;
-  // Good scans before a silence say nothing of the pose after it.
-  if (!in.lidar_fresh) consecutive_good_scans_ = 0;
+  // Before the first scan nothing is late; after the input ended neither.
+  in.scan_silent_s = any_scan_reported_ && !input_ended_ ? seconds(now_ns - newest_scan_ns_) : 0.0;
+  // Good scans before a silence, or before a spell without scans, say nothing of the pose after it.
+  if (!in.lidar_fresh || in.scan_silent_s >= health_.scan_timeout_s) consecutive_good_scans_ = 0;
   in.fuser_initialised = fuser_initialised;
   in.worst_scan_in_period = worst_scan_in_period_;
   in.consecutive_good_scans = consecutive_good_scans_;
@@ -94,8 +99,9 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
   // Lost without a reset (a silent lidar): the registration's reset comes later, with the next scan.
   if (state_ == HealthState::Lost && resets_in_period_ > 0) lost_at_resets_ = resets_seen_;
   in.new_map_since_lost = lost_at_resets_ > 0 && new_map_at_resets_ >= lost_at_resets_;
+  in.second_lidar = !input_ended_ && foreign_lidar_rate_hz >= health_.second_lidar_rate_hz;
   const HealthLimits limits{health_.degraded_to_lost_s, health_.good_scans_to_recover,
-                            health_.lidar_silent_to_lost_s};
+                            health_.lidar_silent_to_lost_s, health_.scan_timeout_s};
   const HealthTransition next = next_health_state(state_, seconds(now_ns - state_since_steady_ns_), in, limits);
   if (next.state != state_) {
     const bool worse = next.state == HealthState::Degraded || next.state == HealthState::Lost;
@@ -119,17 +125,19 @@ void StatusAggregator::evaluate_health(std::int64_t now_ns, double imu_silent_s,
     }
     state_reason_ = next.reason;
   }
+  if (next.pose_good) state_since_steady_ns_ = now_ns;
   previous_drops_for_health_ = drops;
   worst_scan_in_period_ = ScanVerdict::Good;
   resets_in_period_ = 0;
 }
 
 void StatusAggregator::tick(std::int64_t now_steady_ns, std::int64_t utime, tumble::status_t& out) {
-  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max(), now_steady_ns);
   const PipelineCounters& c = counters_;
   evaluate_health(now_steady_ns, silent_s(c.last_imu_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
                   silent_s(c.last_lidar_steady_ns.load(std::memory_order_relaxed), now_steady_ns),
-                  c.fuser_initialised.load(std::memory_order_relaxed));
+                  c.fuser_initialised.load(std::memory_order_relaxed),
+                  c.lidar_foreign_rate_hz.load(std::memory_order_relaxed));
   fill_message(now_steady_ns, utime, out);
 }
 
@@ -140,17 +148,18 @@ void StatusAggregator::evaluate(const SensorTimeTick& tick) {
     on_sensor_time_ = true;
     start_steady_ns_ = previous_steady_ns_ = state_since_steady_ns_ = now_ns;
   }
-  drain_scan_reports(tick.scan_reports);
+  drain_scan_reports(tick.scan_reports, now_ns);
   const auto sensor_silent_s = [&](double newest_s) { return newest_s >= 0.0 ? tick.t_s - newest_s : kNeverHeard_s; };
   // A reported scan was registered with the fuser's trajectory: the fuser is
   // initialised (its own flag changes at a moment no replay can reproduce).
   evaluate_health(now_ns, sensor_silent_s(tick.newest_imu_s), sensor_silent_s(tick.newest_lidar_s),
-                  any_scan_reported_);
+                  any_scan_reported_, tick.foreign_lidar_rate_hz);
 }
 
 void StatusAggregator::judge_final_scans(std::int64_t now_ns) {
-  drain_scan_reports(std::numeric_limits<std::uint64_t>::max());
-  evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed));
+  drain_scan_reports(std::numeric_limits<std::uint64_t>::max(), now_ns);
+  evaluate_health(now_ns, 0.0, 0.0, any_scan_reported_ || counters_.fuser_initialised.load(std::memory_order_relaxed),
+                  0.0);
 }
 
 void StatusAggregator::publish(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out) {
@@ -185,8 +194,11 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.lidar_late_packets = load(c.lidar_late_packets);
   out.lidar_late_packets_dropped = load(c.lidar_late_packets_dropped);
   out.scans_short_coverage = load(c.scans_short_coverage);
+  out.scans_cut_at_bound = load(c.scans_cut_at_bound);
+  out.lidar_difop_ignored = load(c.lidar_difop_ignored);
   out.imu_duplicate_frames = load(c.imu_duplicate_frames);
   out.imu_out_of_order_frames = load(c.imu_out_of_order_frames);
+  out.imu_rejected_samples = load(c.imu_rejected_samples);
   out.scans_registered = scans;
   out.scans_dropped = load(c.scans_dropped);
   out.scans_short_trajectory = load(c.scans_short_trajectory);

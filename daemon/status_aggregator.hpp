@@ -66,10 +66,13 @@ class StatusAggregator {
  private:
   static constexpr std::size_t kWindow = 64;  // scans per period kept for medians (10 Hz lidar: 10)
 
-  void drain_scan_reports(std::uint64_t until);  // until: the report count to reach (scan_reports_ pushes)
+  // until: the report count to reach (scan_reports_ pushes); now_ns: the health clock's time, which on
+  // sensor time stamps the newest scan (live, its completion's steady time does).
+  void drain_scan_reports(std::uint64_t until, std::int64_t now_ns);
   std::uint64_t sensor_drops() const;  // lost sensor data: dropped scans and sensor-ring drops
   // *_silent_s: since the sensor's newest data (infinity before any).
-  void evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s, bool fuser_initialised);
+  void evaluate_health(std::int64_t now_ns, double imu_silent_s, double lidar_silent_s, bool fuser_initialised,
+                       double foreign_lidar_rate_hz);
   void fill_message(std::int64_t now_ns, std::int64_t utime, tumble::status_t& out);
 
   HealthConfig health_;
@@ -96,6 +99,7 @@ class StatusAggregator {
   float expected_error_max_m_ = 0.0f;  // of the registered scans since the last message
   int consecutive_good_scans_ = 0;
   bool any_scan_reported_ = false;
+  std::int64_t newest_scan_ns_ = 0;  // on the health clock, of the newest scan completed (valid once one was)
   int resets_in_period_ = 0;
   std::int32_t resets_seen_ = 0;
   TrackingLoss newest_reset_reason_ = TrackingLoss::None;

@@ -22,15 +22,21 @@ struct PipelineCounters {
   std::atomic<std::int64_t> lidar_bad_packets{0};
   std::atomic<std::int64_t> lidar_missing_packets{0};
   std::atomic<std::int64_t> lidar_foreign_packets{0};
+  std::atomic<std::int64_t> lidar_difop_ignored{0};  // disagreed with the configuration in use
+  std::atomic<double> lidar_foreign_rate_hz{0.0};  // foreign datagrams to the MSOP port, over the last whole second
   std::atomic<std::int64_t> imu_frames{0};
   std::atomic<std::int64_t> imu_bad_frames{0};
   std::atomic<std::int64_t> imu_gaps{0};
   std::atomic<std::int64_t> imu_duplicate_frames{0};
   std::atomic<std::int64_t> imu_out_of_order_frames{0};
+  std::atomic<std::int64_t> imu_rejected_samples{0};  // NaN, Inf or beyond the device's range: not fused
   ClockEstimate imu_clock;
   ClockEstimate lidar_clock;
-  std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram, 0 = never
-  std::atomic<std::int64_t> last_imu_steady_ns{0};    // arrival of the newest serial bytes, 0 = never
+  // Fresh means data, not bytes: foreign datagrams, DIFOP alone, packets
+  // without points or serial bytes that decode to no valid sample must not
+  // keep a dead sensor alive (0 = never).
+  std::atomic<std::int64_t> last_lidar_steady_ns{0};  // arrival of the newest datagram that gave points
+  std::atomic<std::int64_t> last_imu_steady_ns{0};    // arrival of the bytes of the newest valid IMU sample
 
   // fuser thread
   std::atomic<std::int64_t> imu_samples{0};  // consumed by the fuser
@@ -55,6 +61,7 @@ struct PipelineCounters {
   std::atomic<std::int64_t> lidar_late_packets{0};
   std::atomic<std::int64_t> lidar_late_packets_dropped{0};
   std::atomic<std::int64_t> scans_short_coverage{0};  // skipped: not a whole revolution
+  std::atomic<std::int64_t> scans_cut_at_bound{0};    // skipped: cut at 1.5 revolutions without passing the split
 };
 
 }  // namespace tumble::daemon

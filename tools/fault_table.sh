@@ -27,6 +27,10 @@ faults=(
   "IMU silent 0.2 s at 4 s|--imu-gap 4,0.2"
   "IMU silent 1 s at 4 s|--imu-gap 4,1"
   "IMU silent 1 s at 3 s|--imu-gap 3,1"
+  "5 % IMU frames with a NaN rate|--imu-nan 0.05"
+  "second lidar host from 3 s (its stream 2 s old, 1.5x as fast)|--second-lidar 3,2"
+  "motor stalled 2 s at 4 s, lasers firing|--motor-stall 4,2"
+  "DIFOP with another calibration from 3 s|--difop-change 3"
 )
 
 echo "| fault | run | final error | runaway while good | states and warnings (data time) |"

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace tumble::rs16 {
 namespace {
@@ -68,6 +69,37 @@ void Decoder::decode_difop(std::span<const std::uint8_t> bytes, DecoderStats& st
   }
   ++stats.difop_packets;
   difop_seen_ = true;
+  // Frozen once a DIFOP gave the vertical angles: one without them (a lidar
+  // not calibrated yet) leaves the next to set them.
+  if (!settings_frozen_ || config_.follow_difop_changes) {
+    apply_difop(stats);
+    settings_frozen_ = difop_.angles_calibrated;
+    return;
+  }
+  const std::string changes = difop_changes();
+  if (changes.empty()) return;
+  ++stats.difop_ignored;
+  if (!logged_ignored_)
+    spdlog::warn("rs16: a DIFOP disagrees with the sensor configuration in use ({}): ignored, as every later one "
+                 "(lidar.follow_difop_changes: false; counted in status_t.lidar_difop_ignored)",
+                 changes);
+  logged_ignored_ = true;
+}
+
+std::string Decoder::difop_changes() const {
+  const DifopData& d = difop_.data;
+  std::string changes;
+  const auto add = [&changes](std::string_view what) { changes += (changes.empty() ? "" : ", ") + std::string(what); };
+  if (difop_.angles_calibrated && d.vertical_angles_deg != lasers_.vertical_deg) add("vertical angles");
+  if (difop_.resolution_m != settings_.resolution_m) add("range resolution");
+  if (d.return_mode <= static_cast<std::uint8_t>(ReturnMode::Last) &&
+      static_cast<ReturnMode>(d.return_mode) != settings_.return_mode)
+    add("return mode");
+  if (d.motor_rpm >= kMinRpm && d.motor_rpm <= kMaxRpm && d.motor_rpm != settings_.rpm) add("motor speed");
+  return changes;
+}
+
+void Decoder::apply_difop(DecoderStats& stats) {
   const DifopData& d = difop_.data;
   if (!difop_.angles_calibrated) {
     ++stats.difop_uncalibrated;

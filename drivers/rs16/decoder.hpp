@@ -30,6 +30,11 @@ struct DecoderConfig {
   // Skip MSOP packets until the first DIFOP, as RoboSense's own driver does.
   bool wait_for_difop = false;
   double default_rpm = 600.0;  // motor speed assumed until the first DIFOP
+  // The first DIFOP sets the sensor configuration (vertical angles, range
+  // resolution, return mode, motor speed); a later one that disagrees is
+  // counted and ignored, unless this is set. Any host that reaches the DIFOP
+  // port could otherwise re-calibrate the lidar mid-run.
+  bool follow_difop_changes = false;
 };
 
 // Throws std::invalid_argument naming the key and its allowed range.
@@ -42,7 +47,9 @@ class Decoder {
   // One MSOP payload that reached the host at arrival_s. True when out now
   // holds its points; otherwise the reason is counted in stats.
   bool decode_msop(std::span<const std::uint8_t> bytes, double arrival_s, DecodedPacket& out, DecoderStats& stats);
-  // One DIFOP payload: updates the sensor settings, logging each change once.
+  // One DIFOP payload: the first sets the sensor settings (each logged once);
+  // a later one that disagrees is counted (stats.difop_ignored), named in one
+  // warning and ignored, unless config.follow_difop_changes.
   void decode_difop(std::span<const std::uint8_t> bytes, DecoderStats& stats);
 
   const LaserTable& lasers() const { return lasers_; }
@@ -54,6 +61,9 @@ class Decoder {
 
  private:
   void use_angles(const std::array<double, kLasers>& vertical_deg, AngleSource source);
+  void apply_difop(DecoderStats& stats);
+  // What the decoded DIFOP would change in the settings in use, "" for nothing.
+  std::string difop_changes() const;
 
   DecoderConfig config_;
   LaserTable lasers_;
@@ -61,6 +71,8 @@ class Decoder {
   LidarClockMapper clock_;
   bool difop_seen_ = false;
   bool logged_uncalibrated_ = false;
+  bool settings_frozen_ = false;  // the first DIFOP was applied
+  bool logged_ignored_ = false;
   MsopHeader header_;
   DifopInfo difop_;
 };

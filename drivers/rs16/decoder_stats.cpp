@@ -32,6 +32,8 @@ DecoderStats& DecoderStats::operator+=(const DecoderStats& o) {
   late_packets += o.late_packets;
   late_packets_dropped += o.late_packets_dropped;
   scans_short_coverage += o.scans_short_coverage;
+  scans_cut_at_bound += o.scans_cut_at_bound;
+  difop_ignored += o.difop_ignored;
   return *this;
 }
 

@@ -33,6 +33,7 @@ struct DecoderStats {
   BadPackets bad_difop;
   std::uint64_t msop_blocks_cut = 0;     // blocks after a wrong flag or azimuth, ignored
   std::uint64_t difop_uncalibrated = 0;  // DIFOP whose vertical angles were unusable (kept the previous ones)
+  std::uint64_t difop_ignored = 0;       // DIFOP after the first that disagreed with the settings in use
   std::uint64_t msop_before_difop = 0;   // skipped while waiting for the first DIFOP (wait_for_difop)
   DroppedPoints dropped;
   std::uint64_t points = 0;           // points produced
@@ -43,6 +44,7 @@ struct DecoderStats {
   std::uint64_t late_packets = 0;          // older than the newest: put into their (still open) scan
   std::uint64_t late_packets_dropped = 0;  // older than the newest, fired before the open scan began: dropped
   std::uint64_t scans_short_coverage = 0;  // scans emitted covering less than min_scan_coverage of a turn
+  std::uint64_t scans_cut_at_bound = 0;    // scans cut at kMaxScanRevolutions without passing the split azimuth
 
   DecoderStats& operator+=(const DecoderStats& o);
 };

@@ -53,9 +53,11 @@ ScanAssembler::ScanAssembler(const ScanAssemblerConfig& config, ScanHandler hand
   scan_.points.reserve(kReservedPoints);
 }
 
-void ScanAssembler::end_scan(bool by_gap, DecoderStats& stats) {
+void ScanAssembler::end_scan(ScanEnd end, DecoderStats& stats) {
   if (blocks_in_scan_ > 0) {
-    report_.ended_by_gap = by_gap;
+    report_.ended_by_gap = end == ScanEnd::Gap;
+    report_.cut_at_bound = end == ScanEnd::Bound;
+    stats.scans_cut_at_bound += report_.cut_at_bound;
     report_.azimuth_coverage = coverage_units_ / kAzimuthUnitsPerTurn;
     // A little below one nominal step short of the threshold still passes:
     // where the split falls between two blocks is a matter of rounding.
@@ -82,6 +84,17 @@ bool ScanAssembler::seen_recently(const DecodedPacket& packet) {
   recent_[recent_next_] = key;
   recent_next_ = (recent_next_ + 1) % kRecentPackets;
   return false;
+}
+
+bool ScanAssembler::over_bound(const DecodedPacket& packet, int block) const {
+  if (blocks_in_scan_ == 0) return false;
+  const double block_t_s = packet.t_s + block_period_s(packet.return_mode) * block;
+  const double rpm = std::min(packet.rpm, kSlowestRpm);
+  const double revolution_s = 60.0 / rpm;
+  const double blocks_per_turn = kAzimuthUnitsPerTurn / nominal_block_step(rpm, packet.return_mode);
+  const double max_points = kMaxScanRevolutions * blocks_per_turn * kChannelsPerBlock;
+  return block_t_s - scan_start_t_s_ >= kMaxScanRevolutions * revolution_s ||
+         static_cast<double>(scan_.points.size() + packet.block_points(block).size()) > max_points;
 }
 
 void ScanAssembler::add_late(const DecodedPacket& packet, DecoderStats& stats) {
@@ -134,7 +147,7 @@ void ScanAssembler::add(const DecodedPacket& packet, DecoderStats& stats) {
         const double lost = std::min(std::round(dt_s / packet_duration_s(packet.return_mode)) - 1.0, 1e12);
         if (lost > 0.0) stats.missing_packets += static_cast<std::uint64_t>(lost);
       }
-      end_scan(true, stats);
+      end_scan(ScanEnd::Gap, stats);
       has_previous_ = false;
     } else {
       // The first block should follow the previous packet's last one by one step;
@@ -151,8 +164,9 @@ void ScanAssembler::add(const DecodedPacket& packet, DecoderStats& stats) {
     if (has_previous_) {
       const double elapsed_s = b == 0 ? packet.t_s - previous_block_t_s_ : block_period_s(packet.return_mode);
       const double advance = unwrapped_advance(previous_azimuth_, azimuth, elapsed_s * units_per_s);
-      if (passes(previous_azimuth_, advance, split_units_)) end_scan(false, stats);
+      if (passes(previous_azimuth_, advance, split_units_)) end_scan(ScanEnd::Split, stats);
     }
+    if (over_bound(packet, b)) end_scan(ScanEnd::Bound, stats);
     if (blocks_in_scan_ == 0) scan_start_t_s_ = packet.t_s + block_period_s(packet.return_mode) * b;
     // Packets lost just before this one belong to the scan this packet starts in.
     if (b == 0) scan_.missing_packets += missing;

@@ -4,6 +4,13 @@
 // revolution or more (or time running back as far), which end a scan rather
 // than merge data from different revolutions into it.
 //
+// A scan that never passes the split azimuth (a stalled motor with the
+// lasers firing, a corrupt azimuth) is cut at kMaxScanRevolutions, in time
+// or in points, and flagged: one scan must not grow without bound. The
+// revolutions are at the slower of the speed in use and kSlowestRpm: the
+// speed in use is the default until the first DIFOP, and a lidar set to
+// turn slower must not have each of its scans cut.
+//
 // What networks do to UDP is taken in stride: an exact duplicate of a recent
 // packet is dropped; a packet older than the newest one (it arrived late) is
 // put into the open scan at its place in firing-time order when it was fired
@@ -20,6 +27,9 @@
 
 namespace tumble::rs16 {
 
+inline constexpr double kMaxScanRevolutions = 1.5;
+inline constexpr double kSlowestRpm = 300.0;  // the RS-16's slowest motor setting (rs16.md)
+
 struct ScanAssemblerConfig {
   double split_azimuth_deg = 0.0;  // [0, 360)
   // A scan whose blocks cover less than this fraction of a turn is reported
@@ -31,6 +41,7 @@ struct ScanAssemblerConfig {
 struct ScanReport {
   std::uint32_t returns_dropped = 0;  // returns of the scan's firings that gave no point
   bool ended_by_gap = false;          // cut short by a time gap, not by the split azimuth
+  bool cut_at_bound = false;          // cut at kMaxScanRevolutions without passing the split azimuth
   double azimuth_coverage = 0.0;      // fraction of a turn its blocks cover (lost packets leave holes)
   bool short_coverage = false;        // below min_scan_coverage: not a whole revolution
 };
@@ -57,9 +68,12 @@ class ScanAssembler {
     int block_count = 0;
   };
 
+  enum class ScanEnd { Split, Gap, Bound };
+
   bool seen_recently(const DecodedPacket& packet);
+  bool over_bound(const DecodedPacket& packet, int block) const;
   void add_late(const DecodedPacket& packet, DecoderStats& stats);
-  void end_scan(bool by_gap, DecoderStats& stats);
+  void end_scan(ScanEnd end, DecoderStats& stats);
 
   double split_units_;  // 0.01 deg
   double min_coverage_;

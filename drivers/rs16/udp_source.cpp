@@ -23,6 +23,18 @@ double realtime_now_s() {
   return static_cast<double>(ts.tv_sec) + static_cast<double>(ts.tv_nsec) * 1e-9;
 }
 
+// Linux reports twice the receive buffer asked for (socket(7): the rest is its
+// bookkeeping); a sandbox's kernel (gVisor) may not. The factor is read off
+// a buffer below any cap (net.core.rmem_max is at least 208 KiB by default).
+int reported_buffer_factor(boost::asio::io_context& io) {
+  constexpr int kSmall = 65536;
+  boost::asio::ip::udp::socket probe(io, boost::asio::ip::udp::v4());
+  probe.set_option(boost::asio::socket_base::receive_buffer_size(kSmall));
+  boost::asio::socket_base::receive_buffer_size reported;
+  probe.get_option(reported);
+  return reported.value() >= 2 * kSmall ? 2 : 1;
+}
+
 }  // namespace
 
 UdpSource::UdpSource(boost::asio::io_context& io, const UdpSourceConfig& config, Handler handler)
@@ -35,6 +47,9 @@ UdpSource::UdpSource(boost::asio::io_context& io, const UdpSourceConfig& config,
   if (ec) throw std::runtime_error("rs16: bind_address '" + config.bind_address + "' is not an IPv4 address");
   open(msop_, address, config.ports.msop_port, config.receive_buffer_bytes);
   open(difop_, address, config.ports.difop_port, config.receive_buffer_bytes);
+  boost::asio::socket_base::receive_buffer_size granted;
+  msop_.socket.get_option(granted);
+  granted_receive_buffer_bytes_ = granted.value() / reported_buffer_factor(io);
 }
 
 void UdpSource::open(Channel& channel, const boost::asio::ip::address_v4& address, std::uint16_t port,

@@ -45,6 +45,9 @@ class UdpSource {
   void stop();
 
   std::uint16_t msop_port() const { return msop_.socket.local_endpoint().port(); }
+  // What the kernel granted the MSOP socket: it caps the request at
+  // net.core.rmem_max without an error, so this may be below the config's.
+  int granted_receive_buffer_bytes() const { return granted_receive_buffer_bytes_; }
   std::uint16_t difop_port() const { return difop_.socket.local_endpoint().port(); }
   const UdpSourceStats& stats() const { return stats_; }
 
@@ -66,6 +69,7 @@ class UdpSource {
   Channel msop_;
   Channel difop_;
   UdpSourceStats stats_;
+  int granted_receive_buffer_bytes_ = 0;
   bool running_ = false;
 };
 

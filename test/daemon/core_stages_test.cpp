@@ -73,6 +73,39 @@ TEST(CoreRegistrationStage, SkipsShortScansAndNamesPacketFaultsInTheLog) {
   EXPECT_EQ(text.find("scan 0 covers"), std::string::npos) << "the first scan is partial by nature:\n" << text;
 }
 
+// The motor stalls for 2 s with the lasers firing, then turns again.
+TEST(CoreRegistrationStage, SkipsScansCutAtTheBoundAndNamesThemInTheLog) {
+  const CapturedLog log;
+  CoreRegistrationStage stage(odometry_params(DaemonConfig{}), scan_assembler_config(LidarConfig{}));
+  rs16::Decoder decoder;
+  rs16::DecoderStats decoder_stats;
+  const rs16::test::StreamSpec spec;
+  PointBlock block;
+  int held_in_stall = 0, held_after = 0;
+  for (std::int64_t i = 0; i < 3000; ++i) {  // 75 packets a turn
+    rs16::MsopPacketData data = rs16::test::stream_packet(spec, i);
+    const bool stalled = i >= 300 && i < 1800;
+    if (stalled)
+      for (auto& b : data.blocks) b.azimuth_deg = 45.0;
+    ASSERT_TRUE(decoder.decode_msop(rs16::encode_msop(data), 0.0, block, decoder_stats));
+    if (stage.add_points(block)) {
+      held_in_stall += stalled && i > 300;  // the first stalled packet may end the last turning scan
+      held_after += i >= 1800;
+      stage.discard_held_scan();
+    }
+  }
+  PipelineCounters counters;
+  stage.report(counters);
+  EXPECT_GE(counters.scans_cut_at_bound.load(), 6);
+  EXPECT_EQ(held_in_stall, 0);
+  EXPECT_GE(held_after, 14);  // the motor turns again: whole scans again
+  const std::string text = log.text();
+  EXPECT_NE(text.find("ran 1.5 revolutions at 300 rpm"), std::string::npos) << text;
+  EXPECT_NE(text.find("without passing the split azimuth (motor stalled?): cut and skipped; 1 so far"),
+            std::string::npos)
+      << text;
+}
+
 // A still trajectory over the scan, the gyro clipped about lidar axes
 // `clipped_axes` (bits) at one sample in its middle.
 std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span, std::uint8_t clipped_axes) {

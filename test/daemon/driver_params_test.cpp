@@ -124,5 +124,29 @@ TEST(ScanAssemblerConfigFromConfig, MinScanCoverageReachesTheAssembler) {
   EXPECT_DOUBLE_EQ(scans.split_azimuth_deg, 90.0);
 }
 
+TEST(ImuLimitsFromConfig, TheDevicesRangesReachTheSampleCheckInRadians) {
+  const ImuLimits defaults = imu_limits(ImuConfig{});
+  EXPECT_NEAR(defaults.gyro_range_rad_s, 7.854, 1e-3);  // MTi-30 G4: 450 deg/s
+  EXPECT_DOUBLE_EQ(defaults.accel_range_m_s2, 200.0);
+  const DaemonConfig config = load_config("imu:\n  gyro_range_deg_s: 1000\n  accel_range_m_s2: 50\n", "test.yaml");
+  const ImuLimits l = imu_limits(config.imu);
+  EXPECT_DOUBLE_EQ(l.gyro_range_rad_s, 1000.0 * std::numbers::pi / 180.0);
+  EXPECT_DOUBLE_EQ(l.accel_range_m_s2, 50.0);
+}
+
+TEST(LidarDecoderConfigFromConfig, FollowingDifopChangesIsOffByDefaultAndReachesTheDecoder) {
+  EXPECT_FALSE(lidar_decoder_config(LidarConfig{}).follow_difop_changes);
+  const DaemonConfig config = load_config("lidar:\n  follow_difop_changes: true\n", "test.yaml");
+  EXPECT_TRUE(lidar_decoder_config(config.lidar).follow_difop_changes);
+}
+
+TEST(HealthKeysFromConfig, TheSecondLidarRateAndTheScanTimeoutLoadIntoTheHealthLimits) {
+  const DaemonConfig config = load_config(
+      "daemon:\n  health:\n    second_lidar_rate_hz: 100\n    scan_timeout_s: 0.8\n", "test.yaml");
+  EXPECT_DOUBLE_EQ(config.daemon.health.second_lidar_rate_hz, 100.0);
+  EXPECT_DOUBLE_EQ(config.daemon.health.scan_timeout_s, 0.8);
+  EXPECT_THROW(load_config("daemon:\n  health:\n    scan_timeout_s: 0\n", "test.yaml"), ConfigError);
+}
+
 }  // namespace
 }  // namespace tumble::daemon

@@ -156,6 +156,40 @@ TEST(HealthState, AnUnobservedDirectionDegradesWithThatReasonAndIsRestated) {
   EXPECT_EQ(next_health_state(S::Degraded, 3.0, in, {}).state, S::Lost);
 }
 
+TEST(HealthState, ASecondLidarOnTheNetworkDegradesWithThatReasonUntilItStops) {
+  HealthInputs in = healthy();
+  in.second_lidar = true;
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_NE(t.reason.find("a second host sends lidar traffic at a lidar's rate"), std::string_view::npos) << t.reason;
+  // Good scans do not end it, nor does time make it lost: the pose is still the lidar's.
+  const HealthTransition held = next_health_state(S::Degraded, 60.0, in, HealthLimits{3.0, 5});
+  EXPECT_EQ(held.state, S::Degraded);
+  EXPECT_EQ(held.reason, t.reason);
+  EXPECT_TRUE(held.pose_good);  // the degraded-to-lost clock starts again
+  in.consecutive_good_scans = 0;
+  EXPECT_FALSE(next_health_state(S::Degraded, 1.0, in, HealthLimits{3.0, 5}).pose_good);
+  in.consecutive_good_scans = 10;
+  in.second_lidar = false;
+  EXPECT_EQ(next(S::Degraded, in, 60.0), S::Tracking);
+}
+
+TEST(HealthState, LidarPointsThatCompleteNoScanAreAStaleLidarWithTheirOwnReason) {
+  HealthInputs in = healthy();
+  in.scan_silent_s = 0.4;
+  EXPECT_EQ(next(S::Tracking, in), S::Tracking);
+  in.scan_silent_s = 0.5;
+  const HealthTransition t = next_health_state(S::Tracking, 0.0, in, {});
+  EXPECT_EQ(t.state, S::Degraded);
+  EXPECT_NE(t.reason.find("no scan completed"), std::string_view::npos) << t.reason;
+  // Good scans from before the spell do not end it.
+  EXPECT_EQ(next(S::Degraded, in, 1.0), S::Degraded);
+  EXPECT_EQ(next(S::Degraded, in, 3.0), S::Lost);
+  // A lidar without points is named as such, not as a lidar without scans.
+  in.lidar_fresh = false;
+  EXPECT_EQ(next_health_state(S::Tracking, 0.0, in, {}).reason, "no lidar data");
+}
+
 TEST(HealthState, DegradedRecoversAfterEnoughGoodScans) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 4;

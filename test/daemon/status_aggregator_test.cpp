@@ -124,6 +124,9 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   counters_.scans_short_coverage = 14;
   counters_.imu_duplicate_frames = 15;
   counters_.imu_out_of_order_frames = 16;
+  counters_.imu_rejected_samples = 17;
+  counters_.scans_cut_at_bound = 18;
+  counters_.lidar_difop_ignored = 19;
   counters_.gyro_saturated_samples[1] = 4;
   counters_.imu_clock.offset_s = 0.25;
   for (int i = 0; i < 5; ++i) imu_ring_.push(i);
@@ -141,6 +144,9 @@ TEST_F(StatusAggregatorTest, RatesCountsAndRings) {
   EXPECT_EQ(status_.scans_short_coverage, 14);
   EXPECT_EQ(status_.imu_duplicate_frames, 15);
   EXPECT_EQ(status_.imu_out_of_order_frames, 16);
+  EXPECT_EQ(status_.imu_rejected_samples, 17);
+  EXPECT_EQ(status_.scans_cut_at_bound, 18);
+  EXPECT_EQ(status_.lidar_difop_ignored, 19);
   EXPECT_EQ(status_.gyro_saturated_samples[1], 4);
   EXPECT_EQ(status_.imu_clock_offset_s, 0.25);
   ASSERT_EQ(status_.num_rings, 2);
@@ -206,6 +212,75 @@ TEST_F(StatusAggregatorTest, StateMachineRunsOnTheCountersAndLogsOneLinePerChang
   EXPECT_EQ(log_lines(), 6);  // one per change, no more
   EXPECT_NE(log_.str().find("warning state degraded -> lost: degraded for too long"), std::string::npos) << log_.str();
   EXPECT_NE(aggregator_.summary().find("lost"), std::string::npos);
+}
+
+TEST_F(StatusAggregatorTest, ASecondLidarDegradesLiveAndOnSensorTime) {
+  ASSERT_NO_FATAL_FAILURE(start_tracking());
+  counters_.lidar_foreign_rate_hz = HealthConfig{}.second_lidar_rate_hz - 1.0;  // many foreign datagrams, not a lidar
+  report_scan(true, 1.0f);
+  sensors_alive(2 * kSecond);
+  aggregator_.tick(2 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  counters_.lidar_foreign_rate_hz = 1125.0;
+  report_scan(true, 1.0f);
+  sensors_alive(3 * kSecond);
+  aggregator_.tick(3 * kSecond, 0, status_);
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(status_.state_reason.find("second host"), std::string::npos) << status_.state_reason;
+
+  // A replay judges the rate the io thread saw at each tick, not the counter's latest value.
+  counters_.lidar_foreign_rate_hz = 0.0;
+  StatusAggregator replayed(HealthConfig{}, {}, {}, counters_, reports_, 0, logger_);
+  for (double t_s = 1.0; t_s < 2.0; t_s += 0.1) {
+    reports_.push(registered_scan(true));
+    const bool foreign = t_s > 1.5;
+    replayed.evaluate(SensorTimeTick{t_s, t_s - 0.01, t_s - 0.01, 0, reports_.pushed(), foreign ? 1125.0 : 0.0});
+    EXPECT_EQ(replayed.state() == HealthState::Degraded, foreign) << t_s;
+  }
+  // Seconds of it with good scans, then one poor scan: degraded, not "degraded for too long".
+  for (double t_s = 2.0; t_s < 6.0; t_s += 0.1) {
+    reports_.push(registered_scan(true));
+    replayed.evaluate(SensorTimeTick{t_s, t_s - 0.01, t_s - 0.01, 0, reports_.pushed(), 1125.0});
+  }
+  reports_.push(registered_scan(false));
+  replayed.evaluate(SensorTimeTick{6.0, 5.99, 5.99, 0, reports_.pushed(), 1125.0});
+  EXPECT_EQ(replayed.state(), HealthState::Degraded);
+}
+
+// The motor stalls with the lasers firing: points keep arriving, no scan completes.
+TEST_F(StatusAggregatorTest, LidarPointsWithoutScansDegradeOnSensorTimeAndLive) {
+  for (int i = 0; i < 6; ++i) {  // more good scans than good_scans_to_recover
+    reports_.push(registered_scan(true));
+    evaluate_next_tick();
+  }
+  ASSERT_EQ(aggregator_.state(), HealthState::Tracking);
+  for (int i = 0; i < 4; ++i) evaluate_next_tick();  // 0.4 s of points, no scan
+  EXPECT_EQ(aggregator_.state(), HealthState::Tracking);
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+  EXPECT_NE(log_.str().find("tracking -> degraded: no scan completed for daemon.health.scan_timeout_s"),
+            std::string::npos)
+      << log_.str();
+  // The motor turns again: the good scans from before the stall do not count toward recovering.
+  reports_.push(registered_scan(true));
+  evaluate_next_tick();
+  EXPECT_EQ(aggregator_.state(), HealthState::Degraded);
+
+  // Live, a scan's own completion time counts, not the tick that drained it.
+  StatusAggregator live(HealthConfig{}, {}, {}, counters_, reports_, 0, logger_);
+  counters_.fuser_initialised = true;
+  RegistrationRecord scan = registered_scan(true);
+  scan.scan_complete_steady_ns = kSecond;
+  reports_.push(scan);
+  sensors_alive(kSecond);
+  live.tick(kSecond, 0, status_);
+  live.tick(kSecond, 0, status_);
+  ASSERT_EQ(live.state(), HealthState::Tracking);
+  scan.scan_complete_steady_ns = kSecond + kSecond / 10;
+  reports_.push(scan);
+  sensors_alive(2 * kSecond);
+  live.tick(2 * kSecond, 0, status_);  // the newest scan completed 0.9 s ago
+  EXPECT_EQ(live.state(), HealthState::Degraded);
 }
 
 TEST_F(StatusAggregatorTest, TheEndOfTheInputIsNotASensorFailure) {

@@ -42,7 +42,7 @@ TEST(SystemdUnit, HasTheAgreedSettings) {
        {"Type=notify", "NotifyAccess=main", "WatchdogSec=", "Restart=on-failure", "User=tumble", "NoNewPrivileges=yes",
         "ProtectSystem=strict", "ProtectHome=yes", "PrivateTmp=yes", "DevicePolicy=closed",
         "DeviceAllow=", "ReadWritePaths=/var/lib/tumble", "RestartPreventExitStatus=2", "LimitRTPRIO=20",
-        "ExecStart=/usr/bin/tumbled --config /etc/tumble/tumbled.yaml"}) {
+        "ExecStart=/usr/bin/tumbled --config /etc/tumble/tumbled.yaml", "MemoryHigh=512M", "MemoryMax=768M"}) {
     EXPECT_NE(unit.find(std::string("\n") + line), std::string::npos) << line;
   }
 }

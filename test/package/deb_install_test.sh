@@ -40,7 +40,8 @@ in_root -i "$first"
 [ "$(installed_version)" = "install ok installed $version" ] || fail "status: $(installed_version)"
 for f in usr/bin/tumbled usr/bin/tumble-sim usr/bin/tumble-eval usr/bin/tumble-calib usr/bin/tumble-dump \
          usr/bin/tumble-spy usr/share/java/tumble-lcmtypes.jar usr/lib/systemd/system/tumbled.service \
-         usr/lib/sysusers.d/tumble.conf usr/lib/udev/rules.d/99-tumble-mti.rules etc/tumble/tumbled.yaml \
+         usr/lib/sysusers.d/tumble.conf usr/lib/udev/rules.d/99-tumble-mti.rules usr/lib/sysctl.d/60-tumble.conf \
+         etc/tumble/tumbled.yaml \
          usr/share/doc/tumble/copyright; do
   [ -e "$root/$f" ] || fail "/$f not installed"
 done

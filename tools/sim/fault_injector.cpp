@@ -18,6 +18,7 @@
 #include "tools/sim/pending_file.hpp"
 #include "tools/sim/run_writer.hpp"
 #include "tools/sim/sensor_rng.hpp"
+#include "tools/sim/wire_faults.hpp"
 
 namespace tumble::sim {
 namespace {
@@ -112,6 +113,61 @@ void delay_lidar(std::vector<LidarRecord>& records, const FaultPlan& plan, Fault
   if (!records.empty()) counts.lidar_mean_delay_s = delay_sum_s / static_cast<double>(records.size());
 }
 
+// The head stops where it was when the stall began; the lasers fire on.
+void stall_motor(std::vector<LidarRecord>& records, std::int64_t start_ns, const FaultPlan& plan, FaultCounts& counts) {
+  if (!plan.motor_stall) return;
+  std::optional<std::uint16_t> held;
+  for (auto& r : records) {
+    if (!is_msop(r)) continue;
+    const std::span<std::uint8_t> payload(r.frame.data() + r.payload_offset, r.payload_size);
+    if (!in_window(r.t_ns, start_ns, plan.motor_stall)) {
+      held.reset();
+      continue;
+    }
+    if (!held) held = last_msop_azimuth(payload);
+    counts.lidar_stalled += stall_msop_azimuths(payload, *held);
+  }
+}
+
+void recalibrate(std::vector<LidarRecord>& records, std::int64_t start_ns, const FaultPlan& plan,
+                 FaultCounts& counts) {
+  if (!plan.difop_change_at_s) return;
+  for (auto& r : records) {
+    if (r.kind != rs16::PacketKind::Difop || r.t_ns < start_ns + to_ns(*plan.difop_change_at_s)) continue;
+    counts.difop_recalibrated +=
+        recalibrate_difop(std::span<std::uint8_t>(r.frame.data() + r.payload_offset, r.payload_size));
+  }
+}
+
+// The lidar's own datagrams from the lead before the start, sent again from
+// kForeignLidarIp kSecondLidarSpeedup times as fast, their header times
+// moved to their new arrival, until the run ends.
+void add_second_lidar(std::vector<LidarRecord>& records, std::int64_t start_ns, const FaultPlan& plan,
+                      FaultCounts& counts) {
+  if (!plan.second_lidar || records.empty()) return;
+  const std::int64_t begin_ns = start_ns + to_ns(plan.second_lidar->at_s);
+  const std::int64_t source_ns = begin_ns - to_ns(plan.second_lidar->lead_s);
+  const std::int64_t end_ns = records.back().t_ns;
+  std::vector<LidarRecord> copies;
+  for (const auto& r : records) {
+    if (!r.kind || r.t_ns < source_ns) continue;
+    const auto t_ns = begin_ns + static_cast<std::int64_t>(static_cast<double>(r.t_ns - source_ns) / kSecondLidarSpeedup);
+    if (t_ns > end_ns) break;
+    std::vector<std::uint8_t> payload(r.frame.begin() + static_cast<std::ptrdiff_t>(r.payload_offset),
+                                      r.frame.begin() + static_cast<std::ptrdiff_t>(r.payload_offset + r.payload_size));
+    shift_header_time(payload, is_msop(r), t_ns - r.t_ns);
+    const rs16::SourceConfig ports;
+    const std::uint16_t port = is_msop(r) ? ports.msop_port : ports.difop_port;
+    copies.push_back({t_ns, pcap::make_udp_ethernet_frame(kForeignLidarIp, kHostIp, port, port, payload), r.kind, 0,
+                      payload.size()});
+  }
+  counts.lidar_second_sender = copies.size();
+  const std::size_t before = records.size();
+  records.insert(records.end(), std::make_move_iterator(copies.begin()), std::make_move_iterator(copies.end()));
+  std::inplace_merge(records.begin(), records.begin() + static_cast<std::ptrdiff_t>(before), records.end(),
+                     [](const LidarRecord& a, const LidarRecord& b) { return a.t_ns < b.t_ns; });
+}
+
 std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t start_ns, const FaultPlan& plan,
                                       FaultCounts& counts) {
   SensorRng drop_rng(plan.seed, "faults/drop-lidar"), dup_rng(plan.seed, "faults/dup-lidar"),
@@ -190,12 +246,30 @@ std::vector<LidarRecord> inject_lidar(std::vector<LidarRecord> in, std::int64_t 
       ++counts.lidar_foreign;
     }
   }
+  stall_motor(out, start_ns, plan, counts);
+  recalibrate(out, start_ns, plan, counts);
+  add_second_lidar(out, start_ns, plan, counts);
   delay_lidar(out, plan, counts);
   return out;
 }
 
+// Frames span serial reads: the reads are joined, poisoned, and cut again where they were.
+void poison_imu(std::vector<ImuRead>& reads, const FaultPlan& plan, FaultCounts& counts) {
+  if (plan.imu_nan <= 0.0) return;
+  std::vector<std::uint8_t> stream;
+  for (const auto& r : reads) stream.insert(stream.end(), r.bytes.begin(), r.bytes.end());
+  SensorRng nan_rng(plan.seed, "faults/imu-nan");
+  counts.imu_nan_frames = poison_rate_of_turn(stream, [&] { return nan_rng.chance(plan.imu_nan); });
+  std::size_t at = 0;
+  for (auto& r : reads) {
+    std::copy_n(stream.begin() + static_cast<std::ptrdiff_t>(at), r.bytes.size(), r.bytes.begin());
+    at += r.bytes.size();
+  }
+}
+
 std::vector<ImuRead> inject_imu(std::vector<ImuRead> in, std::int64_t start_ns, const FaultPlan& plan,
                                 FaultCounts& counts) {
+  poison_imu(in, plan, counts);
   SensorRng garbage_rng(plan.seed, "faults/imu-garbage");
   counts.imu_reads = in.size();
   std::vector<ImuRead> out;
@@ -259,6 +333,14 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   p["swap_lidar"] = plan.swap_lidar;
   p["foreign_lidar"] = plan.foreign_lidar;
   p["imu_garbage"] = plan.imu_garbage;
+  p["imu_nan"] = plan.imu_nan;
+  if (plan.motor_stall) p["motor_stall"] = window_node(*plan.motor_stall, c.run_start_s);
+  if (plan.difop_change_at_s) p["difop_change_at_s"] = *plan.difop_change_at_s;
+  if (plan.second_lidar) {
+    p["second_lidar"]["at_s"] = plan.second_lidar->at_s;
+    p["second_lidar"]["lead_s"] = plan.second_lidar->lead_s;
+    p["second_lidar"]["host_at_s"] = c.run_start_s + plan.second_lidar->at_s;
+  }
   p["lidar_delay_s"] = plan.lidar_delay_s;
   if (plan.lidar_gap) p["lidar_gap"] = window_node(*plan.lidar_gap, c.run_start_s);
   if (plan.imu_gap) p["imu_gap"] = window_node(*plan.imu_gap, c.run_start_s);
@@ -285,6 +367,10 @@ void write_record(const fs::path& run_dir, const FaultPlan& plan, const FaultCou
   n["imu_gap_dropped"] = c.imu_gap_dropped;
   n["imu_garbled_reads"] = c.imu_garbled_reads;
   n["imu_garbage_bytes"] = c.imu_garbage_bytes;
+  n["imu_nan_frames"] = c.imu_nan_frames;
+  n["lidar_stalled"] = c.lidar_stalled;
+  n["lidar_second_sender"] = c.lidar_second_sender;
+  n["difop_recalibrated"] = c.difop_recalibrated;
   m["injected"] = n;
   PendingFile file(path);
   {

@@ -12,7 +12,7 @@
 namespace tumble::sim {
 
 inline constexpr const char* kFaultsName = "faults.yaml";
-// The sender of --foreign-lidar datagrams (not the lidar's 192.168.1.200).
+// The sender of --foreign-lidar and --second-lidar datagrams (not the lidar's 192.168.1.200).
 inline constexpr std::uint32_t kForeignLidarIp = 0xC0A801C9;  // 192.168.1.201
 
 struct FaultCounts {
@@ -32,6 +32,10 @@ struct FaultCounts {
   std::uint64_t imu_gap_dropped = 0;       // serial reads removed by --imu-gap
   std::uint64_t imu_garbled_reads = 0;     // reads preceded by garbage
   std::uint64_t imu_garbage_bytes = 0;
+  std::uint64_t imu_nan_frames = 0;        // MTData2 frames given a NaN rate of turn
+  std::uint64_t lidar_stalled = 0;         // MSOP packets with the head held still
+  std::uint64_t lidar_second_sender = 0;   // datagrams added from the second host
+  std::uint64_t difop_recalibrated = 0;    // DIFOPs given another calibration
   double run_start_s = 0.0;  // host time of the run's first record: T = 0 of the plan
 };
 

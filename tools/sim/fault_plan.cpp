@@ -43,6 +43,12 @@ void validate(const FaultPlan& plan) {
   check_chance("--swap-lidar", plan.swap_lidar);
   check_chance("--foreign-lidar", plan.foreign_lidar);
   check_chance("--imu-garbage", plan.imu_garbage);
+  check_chance("--imu-nan", plan.imu_nan);
+  check_window("--motor-stall", plan.motor_stall);
+  if (plan.difop_change_at_s && !(*plan.difop_change_at_s >= 0.0))
+    throw std::invalid_argument("--difop-change: needs T >= 0 (seconds)");
+  if (plan.second_lidar && !(plan.second_lidar->at_s >= 0.0 && plan.second_lidar->lead_s > 0.0))
+    throw std::invalid_argument("--second-lidar: needs T >= 0 and a lead L > 0 (seconds)");
   if (!(plan.lidar_delay_s >= 0.0 && plan.lidar_delay_s <= 1.0))
     throw std::invalid_argument("--lidar-delay " + std::to_string(plan.lidar_delay_s) +
                                 ": must be a mean delay in [0, 1] s");
@@ -60,6 +66,11 @@ FaultWindow parse_fault_window(const std::string& option, const std::string& tex
 ClockJump parse_clock_jump(const std::string& option, const std::string& text) {
   const auto [t, s] = parse_pair(option, text, "T,S");
   return {t, s};
+}
+
+SecondLidar parse_second_lidar(const std::string& option, const std::string& text) {
+  const auto [t, l] = parse_pair(option, text, "T,L");
+  return {t, l};
 }
 
 }  // namespace tumble::sim

@@ -81,14 +81,17 @@ int command_faults(const std::string& run_dir, const std::string& out_dir, const
   std::fprintf(stderr,
                "tumble-sim faults: wrote %s: of %llu MSOP packets %llu lost, %llu duplicated, %llu pairs swapped, "
                "%llu foreign added; %llu lidar datagrams in the gap, %llu clock-jumped, %llu late (mean %.1f ms, "
-               "max %.1f ms); of %llu IMU reads %llu in the gap, %llu garbled\n",
+               "max %.1f ms), %llu stalled, %llu from a second lidar; of %llu IMU reads %llu in the gap, %llu garbled; "
+               "%llu frames with a NaN rate\n",
                out_dir.c_str(), static_cast<unsigned long long>(c.msop_packets),
                static_cast<unsigned long long>(c.lidar_dropped), static_cast<unsigned long long>(c.lidar_duplicated),
                static_cast<unsigned long long>(c.lidar_swapped_pairs), static_cast<unsigned long long>(c.lidar_foreign),
                static_cast<unsigned long long>(c.lidar_gap_dropped),
                static_cast<unsigned long long>(c.lidar_clock_jumped), static_cast<unsigned long long>(c.lidar_delayed),
-               c.lidar_mean_delay_s * 1e3, c.lidar_max_delay_s * 1e3, static_cast<unsigned long long>(c.imu_reads),
-               static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads));
+               c.lidar_mean_delay_s * 1e3, c.lidar_max_delay_s * 1e3, static_cast<unsigned long long>(c.lidar_stalled),
+               static_cast<unsigned long long>(c.lidar_second_sender), static_cast<unsigned long long>(c.imu_reads),
+               static_cast<unsigned long long>(c.imu_gap_dropped), static_cast<unsigned long long>(c.imu_garbled_reads),
+               static_cast<unsigned long long>(c.imu_nan_frames));
   return 0;
 }
 
@@ -187,10 +190,22 @@ int main(int argc, char** argv) {
   faults->add_option("--foreign-lidar", fault_plan.foreign_lidar,
                      "chance an MSOP packet is followed by one from 192.168.1.201");
   faults->add_option("--imu-garbage", fault_plan.imu_garbage, "chance a serial read is preceded by 1-40 garbage bytes");
+  faults->add_option("--imu-nan", fault_plan.imu_nan, "chance a serial read's MTData2 frames carry a NaN rate of turn");
+  double difop_change_at_s = 0.0;
+  CLI::Option* difop_change_option = faults->add_option(
+      "--difop-change", difop_change_at_s, "T: from T s on the lidar's DIFOPs carry vertical angles 5 % steeper");
+  std::string second_lidar;
+  CLI::Option* second_lidar_option =
+      faults->add_option("--second-lidar", second_lidar,
+                         "T,L: from T s on, 192.168.1.201 sends the lidar's stream from L s earlier, 1.5x as fast, "
+                         "restamped to now");
   faults->add_option("--lidar-delay", fault_plan.lidar_delay_s,
                      "M: each lidar datagram is held an exponential time of mean M s, with stalls; order kept");
   CLI::Option* lidar_gap_option = faults->add_option("--lidar-gap", lidar_gap, "T,D: no lidar datagram for D s from T s");
   CLI::Option* imu_gap_option = faults->add_option("--imu-gap", imu_gap, "T,D: no serial read for D s from T s");
+  std::string motor_stall;
+  CLI::Option* motor_stall_option = faults->add_option(
+      "--motor-stall", motor_stall, "T,D: the lidar's head stands still for D s from T s, its lasers firing on");
   CLI::Option* clock_jump_option =
       faults->add_option("--lidar-clock-jump", clock_jump, "T,S: lidar header times jump by S s from T s on");
 
@@ -216,6 +231,10 @@ int main(int argc, char** argv) {
     if (faults->parsed()) {
       if (lidar_gap_option->count() > 0) fault_plan.lidar_gap = parse_fault_window("--lidar-gap", lidar_gap);
       if (imu_gap_option->count() > 0) fault_plan.imu_gap = parse_fault_window("--imu-gap", imu_gap);
+      if (motor_stall_option->count() > 0) fault_plan.motor_stall = parse_fault_window("--motor-stall", motor_stall);
+      if (difop_change_option->count() > 0) fault_plan.difop_change_at_s = difop_change_at_s;
+      if (second_lidar_option->count() > 0)
+        fault_plan.second_lidar = parse_second_lidar("--second-lidar", second_lidar);
       if (clock_jump_option->count() > 0)
         fault_plan.lidar_clock_jump = parse_clock_jump("--lidar-clock-jump", clock_jump);
       return command_faults(fault_run_dir, out_dir, fault_plan);

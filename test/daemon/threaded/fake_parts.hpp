@@ -127,8 +127,10 @@ class FakeLidarDecoder : public LidarDecoder {
  public:
   // Packets from this one on in each scan carry no points (the lidar facing the sky).
   int pointless_from_packet = kPacketsPerScan;
+  bool rejects_all = false;  // every datagram foreign, DIFOP or bad: none gives points
 
   bool decode(const LidarDatagram& d, PointBlock& block) override {
+    if (rejects_all) return false;
     ++packets_;
     double first_point_s = 0.0;
     std::uint32_t ids[2];
@@ -154,7 +156,10 @@ class FakeLidarDecoder : public LidarDecoder {
 
 class FakeImuDecoder : public ImuDecoder {
  public:
+  bool rejects_all = false;  // bytes that decode to no valid sample
+
   void decode(const ImuBytes& bytes, const std::function<void(const ImuSample&)>& emit) override {
+    if (rejects_all) return;
     ++frames_;
     ImuSample sample;
     std::memcpy(&sample.t_s, bytes.bytes.data(), 8);
@@ -261,6 +266,7 @@ struct FakeParts {
   FakeFuser* fuser;
   FakeRegistration* registration;
   FakeLidarDecoder* lidar_decoder;
+  FakeImuDecoder* imu_decoder;
 };
 
 inline FakeParts make_parts(FakeRecording& recording) {
@@ -270,7 +276,9 @@ inline FakeParts make_parts(FakeRecording& recording) {
   auto lidar_decoder = std::make_unique<FakeLidarDecoder>();
   f.lidar_decoder = lidar_decoder.get();
   f.parts.lidar_decoder = std::move(lidar_decoder);
-  f.parts.imu_decoder = std::make_unique<FakeImuDecoder>();
+  auto imu_decoder = std::make_unique<FakeImuDecoder>();
+  f.imu_decoder = imu_decoder.get();
+  f.parts.imu_decoder = std::move(imu_decoder);
   auto fuser = std::make_unique<FakeFuser>();
   auto registration = std::make_unique<FakeRegistration>();
   f.fuser = fuser.get();

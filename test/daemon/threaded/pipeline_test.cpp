@@ -240,6 +240,27 @@ TEST(Pipeline, StopNowReturnsWithDataStillFlowing) {
   EXPECT_GE(pipeline.counters().scans_registered.load(), 3);
 }
 
+// Live freshness goes by the data the decoders accept: bytes that give no
+// point and no valid sample leave a sensor as silent as no bytes at all.
+TEST(Pipeline, SensorsAreFreshOnAcceptedDataNotOnBytes) {
+  for (const bool rejected : {false, true}) {
+    Pipeline pipeline(DaemonConfig{}, OverflowPolicy::DropOldest);
+    fake::FakeRecording recording(pipeline.io_context(), 5);
+    fake::FakeParts f = fake::make_parts(recording);
+    f.lidar_decoder->rejects_all = rejected;
+    f.imu_decoder->rejects_all = rejected;
+    std::promise<void> ended;
+    std::atomic<bool> reported{false};
+    pipeline.start(std::move(f.parts), [&] {
+      if (pipeline.input_ended() && !reported.exchange(true)) ended.set_value();
+    });
+    ended.get_future().wait();
+    pipeline.stop(Pipeline::Drain::Yes);
+    EXPECT_EQ(pipeline.counters().last_lidar_steady_ns.load() == 0, rejected);
+    EXPECT_EQ(pipeline.counters().last_imu_steady_ns.load() == 0, rejected);
+  }
+}
+
 TEST(Pipeline, AThreadThatThrowsIsReported) {
   Pipeline pipeline(DaemonConfig{}, OverflowPolicy::DropOldest);  // rings big enough to drop nothing
   fake::FakeRecording recording(pipeline.io_context(), 5);

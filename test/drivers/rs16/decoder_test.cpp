@@ -68,6 +68,30 @@ TEST(Rs16Decoder, DifopSetsResolutionReturnModeAndSpeed) {
   EXPECT_EQ(packet.return_mode, ReturnMode::Dual);
 }
 
+// The first DIFOP with vertical angles sets the sensor configuration; one
+// that disagrees later (another host, a glitch) changes nothing.
+TEST(Rs16Decoder, ALaterDifopThatDisagreesIsCountedAndIgnoredUnlessFollowed) {
+  DifopData first = difop_with_angles(0.01);
+  first.motor_rpm = 600;
+  DifopData other = difop_with_angles(0.5);
+  other.motor_rpm = 1200;
+  other.return_mode = 0;
+  for (const bool follow : {false, true}) {
+    DecoderConfig config;
+    config.follow_difop_changes = follow;
+    Decoder decoder(config);
+    DecoderStats stats;
+    decoder.decode_difop(encode_difop(first), stats);
+    decoder.decode_difop(encode_difop(first), stats);  // agrees: nothing to count
+    for (int i = 0; i < 3; ++i) decoder.decode_difop(encode_difop(other), stats);
+    EXPECT_EQ(stats.difop_packets, 5u);
+    EXPECT_EQ(stats.difop_ignored, follow ? 0u : 3u);
+    EXPECT_NEAR(decoder.lasers().vertical_deg[0], -15.0 + (follow ? 0.5 : 0.01), 1e-9);
+    EXPECT_DOUBLE_EQ(decoder.rpm(), follow ? 1200.0 : 600.0);
+    EXPECT_EQ(decoder.return_mode(), follow ? ReturnMode::Dual : ReturnMode::Strongest);
+  }
+}
+
 TEST(Rs16Decoder, WaitsForDifopWhenAsked) {
   DecoderConfig config;
   config.wait_for_difop = true;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <vector>
@@ -39,9 +40,10 @@ class Harness {
           reports.push_back(report);
         }) {}
 
-  void feed(const test::StreamSpec& spec, std::int64_t index) {
+  void feed(const test::StreamSpec& spec, std::int64_t index) { feed_packet(test::stream_packet(spec, index)); }
+  void feed_packet(const MsopPacketData& data) {
     DecodedPacket packet;
-    ASSERT_TRUE(decoder_.decode_msop(encode_msop(test::stream_packet(spec, index)), 0.0, packet, stats));
+    ASSERT_TRUE(decoder_.decode_msop(encode_msop(data), 0.0, packet, stats));
     assembler_.add(packet, stats);
   }
   void feed_range(const test::StreamSpec& spec, std::int64_t from, std::int64_t to, const std::set<std::int64_t>& skip = {}) {
@@ -280,6 +282,66 @@ TEST(Rs16ScanAssembler, AScanCoveringLessThanTheMinimumTurnIsReportedShort) {
   EXPECT_EQ(h.stats.scans_short_coverage, 2u);
   EXPECT_THROW(ScanAssembler({0.0, 1.5}, nullptr), std::invalid_argument);
   EXPECT_THROW(ScanAssembler({0.0, -0.1}, nullptr), std::invalid_argument);
+}
+
+// The points of kMaxScanRevolutions at the slowest motor speed.
+double max_scan_points(const test::StreamSpec& spec) {
+  return kMaxScanRevolutions * kAzimuthUnitsPerTurn / nominal_block_step(kSlowestRpm, spec.mode) * kChannelsPerBlock;
+}
+
+// Packet index of the stream with the head stopped at 45 deg; its header
+// time advances at time_scale of the real rate.
+MsopPacketData stalled_packet(const test::StreamSpec& spec, std::int64_t index, double time_scale) {
+  MsopPacketData p = test::stream_packet(spec, index);
+  p.utc_time_ns = spec.start_ns + std::llround(index * packet_duration_s(spec.mode) * time_scale * 1e9);
+  for (auto& block : p.blocks) block.azimuth_deg = 45.0;
+  return p;
+}
+
+// The motor stalls with the lasers firing: 2 s of packets at one azimuth.
+TEST(Rs16ScanAssembler, AStalledMotorsScanIsCutAtTheBoundInTimeAndFlagged) {
+  test::StreamSpec spec;
+  Harness h;
+  h.feed_range(spec, 0, 100);
+  const std::size_t turning = h.reports.size();
+  std::size_t most_points = 0;
+  for (std::int64_t i = 100; i < 1600; ++i) {
+    h.feed_packet(stalled_packet(spec, i, 1.0));
+    most_points = std::max(most_points, h.assembler_points());
+  }
+  EXPECT_LE(static_cast<double>(most_points), max_scan_points(spec));
+  ASSERT_GE(h.reports.size(), turning + 6);  // 2 s at 0.3 s a cut scan
+  for (std::size_t i = turning; i < h.reports.size(); ++i) {
+    EXPECT_TRUE(h.reports[i].cut_at_bound) << i;
+    if (i > turning) {  // the first holds the last turn
+      EXPECT_TRUE(h.reports[i].short_coverage) << i;
+    }
+  }
+  EXPECT_EQ(h.stats.scans_cut_at_bound, h.reports.size() - turning);
+}
+
+// A header clock that crawls (or a sender that floods) fills a scan faster
+// than the motor turns: the points bound cuts it.
+TEST(Rs16ScanAssembler, AScanThatFillsFasterThanTheMotorTurnsIsCutAtTheBoundInPoints) {
+  test::StreamSpec spec;
+  Harness h;
+  std::size_t most_points = 0;
+  for (std::int64_t i = 0; i < 3000; ++i) {
+    h.feed_packet(stalled_packet(spec, i, 0.1));
+    most_points = std::max(most_points, h.assembler_points());
+  }
+  EXPECT_LE(static_cast<double>(most_points), max_scan_points(spec));
+  EXPECT_GE(h.stats.scans_cut_at_bound, 10u);  // 3000 packets of 384 points, about 86'000 a scan
+}
+
+// At 300 rpm while the decoder assumes its default 600 (no DIFOP yet).
+TEST(Rs16ScanAssembler, AWholeRevolutionIsNeverCut) {
+  test::StreamSpec spec;
+  spec.rpm = kSlowestRpm;
+  Harness h;
+  h.feed_range(spec, 0, 2000);
+  EXPECT_GE(h.reports.size(), 5u);
+  EXPECT_EQ(h.stats.scans_cut_at_bound, 0u);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <boost/asio/ip/udp.hpp>
 #include <chrono>
+#include <fstream>
 #include <vector>
 
 #include "drivers/rs16/difop_encode.hpp"
@@ -127,6 +128,26 @@ TEST(Rs16UdpSource, BindFailureNamesTheAddress) {
   config = loopback_any_port();
   config.bind_address = "not-an-address";
   EXPECT_THROW(UdpSource(io, config, [](const LidarDatagram&) {}), std::runtime_error);
+}
+
+int rmem_max_bytes() {
+  std::ifstream in("/proc/sys/net/core/rmem_max");
+  int bytes = 0;
+  in >> bytes;
+  return bytes;
+}
+
+// The kernel caps SO_RCVBUF at net.core.rmem_max without an error: the
+// source reads back what it got.
+TEST(Rs16UdpSource, ReadsBackTheReceiveBufferTheKernelGranted) {
+  const int cap = rmem_max_bytes();
+  if (cap <= 0 || cap > (1 << 29)) GTEST_SKIP() << "net.core.rmem_max unreadable or too large to exceed";
+  boost::asio::io_context io;
+  UdpSourceConfig config = loopback_any_port();
+  config.receive_buffer_bytes = cap / 2;
+  EXPECT_EQ(UdpSource(io, config, [](const LidarDatagram&) {}).granted_receive_buffer_bytes(), cap / 2);
+  config.receive_buffer_bytes = 2 * cap;
+  EXPECT_EQ(UdpSource(io, config, [](const LidarDatagram&) {}).granted_receive_buffer_bytes(), cap);
 }
 
 }  // namespace

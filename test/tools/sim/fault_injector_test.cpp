@@ -9,12 +9,14 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <set>
 
 #include "drivers/mti/imu_recording_writer.hpp"
 #include "drivers/pcap/pcap_file.hpp"
 #include "drivers/pcap/udp_frame.hpp"
 #include "drivers/rs16/difop_encode.hpp"
+#include "drivers/rs16/laser_geometry.hpp"
 #include "drivers/rs16/msop_encode.hpp"
 #include "drivers/rs16/packet_layout.hpp"
 #include "drivers/rs16/recording_writer.hpp"
@@ -22,6 +24,8 @@
 #include "test/temp_dir.hpp"
 #include "tools/sim/fault_injector.hpp"
 #include "tools/sim/run_writer.hpp"
+#include "tools/sim/wire_faults.hpp"
+#include "drivers/rs16/difop_decode.hpp"
 
 namespace tumble::sim {
 namespace {
@@ -71,6 +75,7 @@ fs::path write_small_run(const fs::path& dir) {
       lidar.write(t, rs16::PacketKind::Msop, msop(i));
       rs16::DifopData difop;
       difop.utc_time_ns = t;
+      difop.vertical_angles_deg = rs16::kDesignVerticalAnglesDeg;
       if (i % 84 == 0) lidar.write(t + 1000, rs16::PacketKind::Difop, rs16::encode_difop(difop));
     }
   }
@@ -295,6 +300,75 @@ TEST_F(FaultInjector, AClockJumpMovesTheHeaderTimesFromItsMomentOn) {
   }
   EXPECT_EQ(c.lidar_clock_jumped, jumped);
   EXPECT_GT(jumped, 300u);
+}
+
+TEST_F(FaultInjector, AStalledMotorHoldsEveryBlockAzimuthInItsWindowOnly) {
+  FaultPlan plan;
+  plan.motor_stall = FaultWindow{0.3, 0.5};
+  const FaultCounts c = inject(plan);
+  const auto all = msops(read_lidar(out() / kLidarPcapName));
+  ASSERT_EQ(all.size(), static_cast<std::size_t>(kMsopCount));
+  std::uint64_t stalled = 0;
+  std::optional<std::uint16_t> held;
+  for (std::size_t i = 0; i < all.size(); ++i) {
+    const bool in_stall = all[i].t_ns >= kStartNs + 300'000'000 && all[i].t_ns < kStartNs + 800'000'000;
+    const auto original = msop(static_cast<int>(i));
+    if (!in_stall) {
+      EXPECT_EQ(std::vector<std::uint8_t>(original.begin(), original.end()), all[i].payload) << i;
+      continue;
+    }
+    // Where the head was: the last block of the packet the stall began with.
+    if (!held) held = rs16::read_u16_be(original, rs16::kFirstBlockOffset + 11 * rs16::kBlockSize + 2);
+    for (int b = 0; b < rs16::kBlocks; ++b)
+      EXPECT_EQ(rs16::read_u16_be(all[i].payload, rs16::kFirstBlockOffset + b * rs16::kBlockSize + 2), *held) << i;
+    ++stalled;
+  }
+  EXPECT_EQ(stalled, c.lidar_stalled);
+  EXPECT_GE(stalled, 416u);  // 0.5 s of 1.2 ms packets
+}
+
+TEST_F(FaultInjector, ASecondLidarSendsTheStreamFromEarlierFasterAndRestampedFromAnotherHost) {
+  FaultPlan plan;
+  plan.second_lidar = SecondLidar{0.6, 0.6};  // the stream from 0 s on, 1.5x as fast: 0.9 s of it by the end
+  const FaultCounts c = inject(plan);
+  const auto all = read_lidar(out() / kLidarPcapName);
+  std::uint64_t second = 0;
+  std::int64_t previous_ns = 0;
+  for (const auto& d : all) {
+    EXPECT_GE(d.t_ns, previous_ns);  // merged in arrival order
+    previous_ns = d.t_ns;
+    if (d.src_ip == kLidarIp) continue;
+    EXPECT_EQ(d.src_ip, kForeignLidarIp);
+    EXPECT_GE(d.t_ns, kStartNs + 600'000'000);
+    if (d.dst_port == 6699) {
+      // Packet id was recorded at kStartNs + id * period; it arrives 0.6 s + that / 1.5 later, restamped.
+      const int id = packet_id(d.payload);
+      const std::int64_t recorded_ns = kStartNs + id * kMsopPeriodNs;
+      EXPECT_NEAR(static_cast<double>(d.t_ns - kStartNs),
+                  600e6 + static_cast<double>(recorded_ns - kStartNs) / kSecondLidarSpeedup, 1.0);
+      EXPECT_EQ(header_time_ns(d.payload) - (recorded_ns - 1'000'000), d.t_ns - recorded_ns);
+    }
+    ++second;
+  }
+  EXPECT_EQ(second, c.lidar_second_sender);
+  EXPECT_NEAR(static_cast<double>(second), 0.6 * kSecondLidarSpeedup / 1.2e-3, 10.0);  // MSOP, and a DIFOP or so
+}
+
+TEST_F(FaultInjector, ADifopChangeSteepensTheAnglesOfTheDifopsFromItsMomentOn) {
+  FaultPlan plan;
+  plan.difop_change_at_s = 0.5;
+  const FaultCounts c = inject(plan);
+  std::uint64_t changed = 0;
+  for (const auto& d : read_lidar(out() / kLidarPcapName)) {
+    if (d.dst_port != 7788) continue;
+    rs16::DifopInfo info;
+    ASSERT_EQ(rs16::decode_difop(d.payload, info), rs16::PacketError::None);
+    const bool after = d.t_ns >= kStartNs + 500'000'000;
+    EXPECT_NEAR(info.data.vertical_angles_deg[0], -15.0 * (after ? kRecalibratedAngleScale : 1.0), 1e-3);
+    changed += after;
+  }
+  EXPECT_EQ(changed, c.difop_recalibrated);
+  EXPECT_GE(changed, 5u);
 }
 
 TEST_F(FaultInjector, LateDatagramsKeepTheirOrderAndBytesAndArriveNoEarlier) {
