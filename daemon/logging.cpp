@@ -77,7 +77,12 @@ AsyncLogging::AsyncLogging(LogLevel level) {
   spdlog::set_default_logger(logger);
 }
 
-// The thread pool writes out its queue before it stops.
-AsyncLogging::~AsyncLogging() { spdlog::shutdown(); }
+// The thread pool writes out its queue before it stops. The logger outlives
+// the pool's thread (held here until after the join), so its sinks are never
+// destroyed while that thread may still be formatting with them.
+AsyncLogging::~AsyncLogging() {
+  const std::shared_ptr<spdlog::logger> logger = spdlog::default_logger();
+  spdlog::shutdown();
+}
 
 }  // namespace tumble::daemon
