@@ -42,6 +42,16 @@ DaemonConfig small_rings() {
   return c;
 }
 
+// Starts the pipeline and returns once its input has ended (the caller stops it).
+void run_until_the_input_ends(Pipeline& pipeline, PipelineParts parts) {
+  std::promise<void> ended;
+  std::atomic<bool> reported{false};
+  pipeline.start(std::move(parts), [&] {
+    if (pipeline.input_ended() && !reported.exchange(true)) ended.set_value();
+  });
+  ended.get_future().wait();
+}
+
 struct ReplayResult {
   std::vector<RegistrationRecord> registrations;
   std::uint64_t odometry_published = 0;
@@ -77,12 +87,7 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
                            pipeline.output_wakeup());
     publisher.add_observer(collector);
     publisher.start();
-    std::promise<void> ended;
-    std::atomic<bool> reported{false};
-    pipeline.start(std::move(f.parts), [&] {
-      if (pipeline.input_ended() && !reported.exchange(true)) ended.set_value();
-    });
-    ended.get_future().wait();
+    run_until_the_input_ends(pipeline, std::move(f.parts));
     pipeline.stop(Pipeline::Drain::Yes);
     publisher.stop();
     EXPECT_FALSE(pipeline.failure());
@@ -104,6 +109,7 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
   result.scans = viewer_scans.messages;
   return result;
 }
+
 
 TEST(Pipeline, ReplayAtMaxRateRegistersEveryScanWithItsWholeTrajectory) {
   constexpr int kScans = 12;
@@ -249,12 +255,7 @@ TEST(Pipeline, SensorsAreFreshOnAcceptedDataNotOnBytes) {
     fake::FakeParts f = fake::make_parts(recording);
     f.lidar_decoder->rejects_all = rejected;
     f.imu_decoder->rejects_all = rejected;
-    std::promise<void> ended;
-    std::atomic<bool> reported{false};
-    pipeline.start(std::move(f.parts), [&] {
-      if (pipeline.input_ended() && !reported.exchange(true)) ended.set_value();
-    });
-    ended.get_future().wait();
+    run_until_the_input_ends(pipeline, std::move(f.parts));
     pipeline.stop(Pipeline::Drain::Yes);
     EXPECT_EQ(pipeline.counters().last_lidar_steady_ns.load() == 0, rejected);
     EXPECT_EQ(pipeline.counters().last_imu_steady_ns.load() == 0, rejected);
