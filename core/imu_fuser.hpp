@@ -164,6 +164,9 @@ struct ImuFuserParams {
   double max_imu_gap_s = 0.1;                   // longer sample gaps are integrated but counted
   // The velocity after re-anchoring across an IMU gap (header, 7).
   double bridged_velocity_sigma_m_s = 1.0;
+  // Faster than the robot ever moves, falls included: a fused velocity
+  // beyond it is a runaway, and the daemon restarts the fuser at the next rest.
+  double max_speed_m_s = 6.0;
   // A scan's position along ScanCorrection::unmeasured_w is the prediction,
   // not a measurement: the velocity measurement from it is this uncertain
   // there (per W axis, by the direction's share of it), so it neither pulls

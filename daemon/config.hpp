@@ -79,6 +79,7 @@ struct FuserConfig {
   double levelling_max_rotation_error_deg = 0.15;
   double init_static_s = 1.0;
   double rest_static_s = 0.5;
+  double max_speed_m_s = 6.0;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;
 };

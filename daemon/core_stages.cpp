@@ -46,7 +46,8 @@ const TrajectoryRecord& record_at(std::span<const TrajectoryRecord> trajectory, 
 // A loss of track whose cause may be the fuser's velocity: the fuser drops
 // it and waits for the robot to rest (ImuFuser::restart_at_rest).
 bool restarts_at_rest(TrackingLoss reason) {
-  return reason == TrackingLoss::NotRegistered || reason == TrackingLoss::DisagreesWithImu;
+  return reason == TrackingLoss::NotRegistered || reason == TrackingLoss::DisagreesWithImu ||
+         reason == TrackingLoss::TooFast;
 }
 
 // Predicting from the registrations needs the newest to be this recent.
@@ -359,7 +360,17 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
       report_unregistered();
       return;
   }
-  keep_track(result_);
+  // Registrations that agree with a wrong prediction confirm the velocity
+  // that made it, and in a scene weak along one axis nothing stops them: a
+  // speed no robot reaches is the runaway's one sure sign.
+  if (velocity_at(trajectory, out.t_s).norm() > params_.fuser.max_speed_m_s) {
+    reset_map(TrackingLoss::TooFast);
+    newest_pose_.reset();
+    previous_pose_.reset();
+    out.awaiting_rest = true;
+  } else {
+    keep_track(result_);
+  }
   if (resets_ > out.resets && restarts_at_rest(reset_reason_)) rests_before_loss_ = trajectory.back().rests;
   out.resets = resets_;
   out.reset_reason = reset_reason_;

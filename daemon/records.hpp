@@ -56,6 +56,7 @@ enum class TrackingLoss : std::uint8_t {
   DisagreesWithImu,   // consecutive registrations far from the IMU-propagated pose
   LidarSilent,        // no scan for longer than daemon.health.lidar_silent_to_lost_s
   UnobservedMap,      // a direction pinned again after an unobserved spell: the map grew on unmeasured poses
+  TooFast,            // the fused speed beyond fuser.max_speed_m_s: the velocity ran away
 };
 constexpr std::string_view to_string(TrackingLoss loss) {
   switch (loss) {
@@ -69,6 +70,8 @@ constexpr std::string_view to_string(TrackingLoss loss) {
       return "lidar silent too long: the IMU alone carried the pose";
     case TrackingLoss::UnobservedMap:
       return "a direction unobserved for a while is pinned again: the map grew on poses not measured along it";
+    case TrackingLoss::TooFast:
+      return "fused speed beyond fuser.max_speed_m_s: the velocity ran away with registrations that agreed with it";
   }
   return "unknown";
 }

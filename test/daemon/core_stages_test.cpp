@@ -107,12 +107,15 @@ TEST(CoreRegistrationStage, SkipsScansCutAtTheBoundAndNamesThemInTheLog) {
 }
 
 // A still trajectory over the scan, the gyro clipped about lidar axes
-// `clipped_axes` (bits) at one sample in its middle.
-std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span, std::uint8_t clipped_axes) {
+// `clipped_axes` (bits) at one sample in its middle; the fuser's velocity
+// along x is `speed_m_s` (a still pose: the fuser's velocity gone wrong).
+std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span, std::uint8_t clipped_axes,
+                                               double speed_m_s = 0.0) {
   std::vector<TrajectoryRecord> trajectory;
   for (double t = span.start_s - 0.05; t < span.end_s + 0.05; t += 0.01) {
     TrajectoryRecord r;
     r.t_s = t;
+    r.v_w_m_s[0] = speed_m_s;
     trajectory.push_back(r);
   }
   trajectory[trajectory.size() / 2].gyro_saturated_axes = clipped_axes;
@@ -122,10 +125,12 @@ std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span,
 // Registers one scan per entry of `clipped` (the gyro's clipped lidar axes
 // over it, on a still trajectory) and returns their records, with the lidar
 // silent for 1.3 s (a reset: lidar_silent_to_lost_s is 1 s) before scan
-// number `silent_before`.
+// number `silent_before`, and the fuser's speed over scan i `speeds_m_s[i]`
+// (0 where absent).
 std::vector<RegistrationRecord> take_scans(const std::vector<std::uint8_t>& clipped,
                                            std::size_t silent_before = std::numeric_limits<std::size_t>::max(),
-                                           const OdometryParams& params = odometry_params(DaemonConfig{})) {
+                                           const OdometryParams& params = odometry_params(DaemonConfig{}),
+                                           const std::vector<double>& speeds_m_s = {}) {
   CoreRegistrationStage stage(params, scan_assembler_config(LidarConfig{}));
   rs16::Decoder decoder;
   rs16::DecoderStats decoder_stats;
@@ -140,9 +145,11 @@ std::vector<RegistrationRecord> take_scans(const std::vector<std::uint8_t>& clip
     }
     EXPECT_TRUE(decoder.decode_msop(rs16::encode_msop(rs16::test::stream_packet(spec, i)), 0.0, block, decoder_stats));
     if (!stage.add_points(block)) continue;
+    const std::size_t n = taken.size();
     taken.emplace_back();
-    stage.register_held_scan(still_trajectory(stage.held_scan_span(), clipped[taken.size() - 1]), taken.back(),
-                             nullptr);
+    stage.register_held_scan(
+        still_trajectory(stage.held_scan_span(), clipped[n], n < speeds_m_s.size() ? speeds_m_s[n] : 0.0),
+        taken.back(), nullptr);
   }
   return taken;
 }
@@ -201,6 +208,23 @@ TEST(CoreRegistrationStage, CountsAClippedSpinsScansInARowAndStartsAgainAfterALi
   EXPECT_EQ(in_row, (std::vector<std::int32_t>{0, 1, 2, 1, 2, 0, 1}));
 }
 
+TEST(CoreRegistrationStage, AFusedSpeedNoRobotReachesLosesTrackAndWaitsForTheNextRest) {
+  const DaemonConfig config;
+  const double too_fast_m_s = config.fuser.max_speed_m_s + 0.5;
+  const std::vector<RegistrationRecord> records =
+      take_scans({kWhole, kWhole, kWhole, kWhole}, std::numeric_limits<std::size_t>::max(), odometry_params(config),
+                 {0.0, config.fuser.max_speed_m_s - 0.5, too_fast_m_s, 0.0});
+  ASSERT_EQ(records.size(), 4u);
+  EXPECT_FALSE(records[1].awaiting_rest);
+  EXPECT_EQ(records[1].resets, 0);
+  EXPECT_TRUE(records[2].awaiting_rest);
+  EXPECT_EQ(records[2].resets, 1);
+  EXPECT_EQ(records[2].reset_reason, TrackingLoss::TooFast);
+  // No rest has come since (the trajectory's rest count stays 0): no new map.
+  EXPECT_TRUE(records[3].awaiting_rest);
+  EXPECT_FALSE(records[3].registered);
+}
+
 // An IMU sample at t_s: still, or turning at 1 rad/s about z (not still).
 ImuSample imu_sample(double t_s, bool turning) {
   ImuSample sample;
@@ -233,6 +257,17 @@ TEST(CoreFuserStage, ALossByUnregisteredScansRestartsTheFuserAtTheNextRest) {
   EXPECT_FALSE(rested.awaiting_rest);
   EXPECT_EQ(rested.rests, 1u);
   EXPECT_EQ(rested.resets, 1);
+}
+
+TEST(CoreFuserStage, ARunawaySpeedRestartsTheFuserAtTheNextRest) {
+  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
+  feed_fuser(fuser, 0.0, 1.2, false);
+  RegistrationRecord lost;
+  lost.t_s = 1.1;
+  lost.resets = 1;
+  lost.reset_reason = TrackingLoss::TooFast;
+  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
+  EXPECT_TRUE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
 }
 
 TEST(CoreFuserStage, ALossOfTheLidarKeepsTheVelocity) {
