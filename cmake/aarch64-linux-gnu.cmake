@@ -19,7 +19,7 @@ set(CMAKE_LIBRARY_ARCHITECTURE aarch64-linux-gnu)
 # parts from the amd64 one after 3.2 s and is up to 17 cm off, and one
 # expression fused differently in two places broke
 # Icp.ReusingNeighboursGivesTheSameMatchesAsSearchingEveryIteration. Unfused,
-# both architectures give bit-identical trajectories (README, On arm64).
+# both architectures give bit-identical trajectories (docs/decisions/build.md).
 set(CMAKE_CXX_FLAGS_INIT "-Wno-psabi -ffp-contract=off")
 
 set(TUMBLE_ARM64_DEPS "" CACHE PATH "Unpacked arm64 packages that cannot be co-installed with amd64")
@@ -43,5 +43,5 @@ set(CMAKE_FIND_ROOT_PATH_MODE_PROGRAM NEVER)
 # loader is libc6-arm64-cross's, another build (2.36-8cross1 beside
 # 2.36-9+deb12u14), and a loader and a libc from different builds disagree on
 # their private data: the first pthread_create walked its stack cache list
-# from the wrong address and looped for ever (README, On arm64).
+# from the wrong address and looped for ever (docs/decisions/build.md).
 set(CMAKE_CROSSCOMPILING_EMULATOR qemu-aarch64 -L /)

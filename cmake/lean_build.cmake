@@ -28,7 +28,7 @@ function(_tumble_compile_like_ours target)
   target_compile_options(${target} PRIVATE -pthread)
   target_link_libraries(${target} PRIVATE Eigen3::Eigen tumble_warnings)
   # Lets ccache reuse compiles against the precompiled header (clang stamps it
-  # with its build time otherwise); see README (ccache sloppiness).
+  # with its build time otherwise); see docs/decisions/build.md (ccache sloppiness).
   if(CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
     target_compile_options(${target} PRIVATE "SHELL:-Xclang -fno-pch-timestamp")
   endif()

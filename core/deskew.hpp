@@ -1,4 +1,4 @@
-// De-skewing (paper eq. 1, algorithm.md §2): every point, measured in the
+// De-skewing (paper eq. 1, docs/method.md §2): every point, measured in the
 // lidar frame at its own firing time t_i, is expressed in the lidar frame at
 // the scan's first point time t_1:  p̂_i = T_WL(t_1)⁻¹ · T_WL(t_i) · p_i,
 // with T_WL(t) interpolated from the fuser's trajectory (linear position,

@@ -1,4 +1,4 @@
-// Weighted point-to-plane ICP against the local map (algorithm.md §3-4):
+// Weighted point-to-plane ICP against the local map (docs/method.md §3-4):
 // Gauss-Newton on SE(3), FRMSD (variable trimmed distance) outlier rejection,
 // a convergence checker, and a degeneracy report with every result.
 //
@@ -69,15 +69,14 @@ struct IcpParams {
   // Degenerate when the smallest eigenvalue of the (unit-balanced) normal
   // matrix is below this fraction of the largest.
   double degeneracy_ratio = 1e-3;
-  // Ours (issue 19): a step along the normal matrix's weakest direction, when
+  // Ours: a step along the normal matrix's weakest direction, when
   // its eigenvalue is below this share of the sum of weights
   // (Degeneracy::min_eigenvalue) and the direction is mostly a translation,
   // follows the noise in the normals, not the geometry. Such an iteration
   // solves the rest with the translation along it held (the initial pose's,
   // the IMU's prediction, carries it), and the result says so. Where the
-  // pose slid along a lane it was the step that slid it: bench1's cage-39
-  // 6.45 → 0.18 cm/m, long-09-yard-cage's RPE over 1 m 3.4 → 2.3 cm/m
-  // (README, "What a weak scan holds"). The rotation stays solved: holding
+  // pose slid along a lane it was the step that slid it
+  // (docs/decisions/weak-scan-hold.md). The rotation stays solved: holding
   // the whole weakest direction, which mixes the translation with a pitch,
   // broke two cage runs. 0: never (the paper's ICP).
   double hold_weak_translation_share = 0.0;

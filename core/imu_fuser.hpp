@@ -1,4 +1,4 @@
-// The 100 Hz fuser (paper §III-B, algorithm.md §1): IMU samples in, the lidar
+// The 100 Hz fuser (paper §III-B, docs/method.md §1): IMU samples in, the lidar
 // trajectory T_WL(t) out, re-anchored by the 10 Hz registration.
 //
 // Frames. W: the lidar frame at initialisation, levelled with gravity (z up,
@@ -83,7 +83,7 @@
 //    "Touches" = a direction cosine above 0.1 (the IMU→lidar and W→lidar
 //    axis mappings use the same threshold).
 //
-// 7. IMU gaps (ours, issue 13): while the IMU is silent the registration
+// 7. IMU gaps (ours): while the IMU is silent the registration
 //    predicts each scan from the registered poses themselves; their
 //    corrections come after the newest sample and are kept as anchors. When
 //    samples return after a gap longer than max_imu_gap_s with an anchor in
@@ -152,7 +152,7 @@ struct ImuFuserParams {
   // Or when its attitude is this certain (ScanResult::expected_rotation_error_icp_rad):
   // a corridor's scans pin the attitude (0.06-0.1°) but not the position
   // along its axis, and with the accelerometer's step a walker's 0.8 m/s²
-  // along it tilted the attitude 5° (README, The corridor's attitude).
+  // along it tilted the attitude 5° (docs/decisions/attitude-between-scans.md).
   double levelling_max_rotation_error_rad = 0.15 * kDegToRad;
   bool attitude_from_device = false;
 

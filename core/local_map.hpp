@@ -1,4 +1,4 @@
-// The rolling local map (algorithm.md §5): registered points in the world
+// The rolling local map (docs/method.md §5): registered points in the world
 // frame, in a voxel hash (KISS-ICP / iVox style), bounded in space (radius
 // around the current pose) and in density (a minimum point spacing and a cap
 // per voxel), with the normals and sigmas the weighted point-to-plane ICP uses.
@@ -44,8 +44,8 @@ struct LocalMapParams {
 // chunk's position array the searches scan). Only what ICP needs is kept: the
 // map holds millions of points on a long run. The normal is fitted when ICP
 // first matches the point (LocalMap::fitted_point), not when it goes in: by
-// then later scans have often filled in the surface around it (bench2's
-// error Q3 1.31 → 1.08 cm/m, README, Speed), and a point never matched is
+// then later scans have often filled in the surface around it
+// (docs/decisions/reading-normals.md), and a point never matched is
 // never fitted (5 % of a cage scan's time on one core).
 struct MapPoint {
   Eigen::Vector3f normal_w = Eigen::Vector3f::UnitZ();  // set once normal_state is kNormalFitted

@@ -1,5 +1,5 @@
 // Madgwick attitude filter, IMU variant (gyro + accelerometer, no
-// magnetometer), as the paper's fuser uses it (§III-B, algorithm.md §1).
+// magnetometer), as the paper's fuser uses it (§III-B, docs/method.md §1).
 //
 //   q̇ = ½ q ⊗ (0, ω) − β ∇f/‖∇f‖,   f(q) = R(q)ᵀ e_z − a/‖a‖
 //

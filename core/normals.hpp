@@ -1,5 +1,5 @@
 // Surface normals and curvature by PCA over a point's k nearest neighbours
-// (algorithm.md §4: k ≈ 15 for the reading, ≈ 20 for the map; GVTW needs the
+// (docs/method.md §4: k ≈ 15 for the reading, ≈ 20 for the map; GVTW needs the
 // normal, SAW the curvature, point-to-plane ICP the map's normals).
 #pragma once
 

@@ -1,4 +1,4 @@
-// The lidar-inertial odometry pipeline (architecture.md, algorithm.md): IMU
+// The lidar-inertial odometry pipeline (docs/layout.md, docs/method.md): IMU
 // samples drive the fuser; each lidar scan is de-skewed with the fuser's
 // trajectory, down-sampled, given normals and weights, registered to the
 // rolling local map, fed back to the fuser and inserted into the map.

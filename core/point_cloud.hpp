@@ -10,7 +10,7 @@
 namespace tumble {
 
 // One point with what the weighted point-to-plane cost needs to know about it
-// (algorithm.md §3): sigma_n_m is the sensor noise, sigma_s_m the skew
+// (docs/method.md §3): sigma_n_m is the sensor noise, sigma_s_m the skew
 // uncertainty of the weight model, weight the SAW weight (1 for other models).
 struct WeightedPoint {
   Eigen::Vector3d p = Eigen::Vector3d::Zero();

@@ -1,5 +1,5 @@
 // Point weights for the weighted point-to-plane cost (paper §III-C,
-// algorithm.md §3):  J = Σ w (e·n)²,  w = 1/(σ_n² + σ_s²).
+// docs/method.md §3):  J = Σ w (e·n)²,  w = 1/(σ_n² + σ_s²).
 //
 //   σ_n  sensor noise growing with the beam footprint: max(0.02 m, 0.0015 rad · range)
 //   σ_s  skew uncertainty, one of:

@@ -1,14 +1,13 @@
 // How well the registered position is known from one scan to the next
-// (ours, issues 19 and 15): a Kalman filter on the position error alone.
-// The IMU's prediction of the next scan's pose is good to about a centimetre
-// per scan interval; where a scan pins its pose only weakly (a lane, the
-// sparse yard) ICP's step along the weak direction follows the normals'
-// noise, and was 2-9 cm wrong where the prediction was 0.7-1.9 (bench2's
-// yard cage runs, median and 90th percentile of the increment error, scans
-// with an expected error over 4 cm). So the prediction enters ICP as a prior
-// (Icp::align), and the published position covariance is the fusion of the
-// prediction's and the scan's: small where either pins the pose, growing by
-// the prediction's each scan that pins a direction no better than it.
+// (ours): a Kalman filter on the position error alone. The IMU's prediction
+// of the next scan's pose is good to about a centimetre per scan interval;
+// where a scan pins its pose only weakly (a lane, a sparse yard) ICP's step
+// along the weak direction follows the normals' noise and is worse than the
+// prediction (docs/decisions/prediction-prior.md). So the prediction enters
+// ICP as a prior (Icp::align), and the published position covariance is the
+// fusion of the prediction's and the scan's: small where either pins the
+// pose, growing by the prediction's each scan that pins a direction no
+// better than it.
 // The prediction is no better than the fuser's velocity: its variance over
 // the time since the last update adds to the prediction's, so after an IMU
 // gap or a jump, when the velocity is a guess, the prior lets go and the
@@ -29,10 +28,7 @@ namespace tumble {
 
 struct PositionUncertaintyParams {
   // σ per W axis of the predicted position over one scan interval (0: no
-  // prior, the paper's ICP; tumbled's default is 0.02). The increment errors
-  // of the prediction on bench2 (GVTW + de-skew): median 0.6-0.8 cm and 90th
-  // percentile 1.0-1.9 cm in the yard and garage, 1.6-1.9 and 2.4 cm in the
-  // shocked cage runs (norms, over all three axes).
+  // prior, the paper's ICP; tumbled's default is 0.02).
   double prediction_sigma_m = 0.0;
   // The interval σ is for; a longer one (scans lost or skipped, a short lidar
   // gap) grows it in proportion: a velocity error carries on.

@@ -17,8 +17,7 @@ namespace {
 // Whether a clipped gyro or accelerometer touched the motion from t_from_s
 // on: the prediction over it is then a guess (a rate beyond the gyro's range
 // taken from the lidar's last scans, a speed lost in a shock), not a
-// measurement to hold ICP to. With the prior kept through gyro clipping,
-// bench2's turntable-33 (10 rad/s) ended 6.6 cm/m off instead of 0.27.
+// measurement to hold ICP to (docs/decisions/prediction-prior.md).
 bool clipped_since(const Trajectory& trajectory, double t_from_s) {
   for (std::size_t i = trajectory.size(); i > 0 && trajectory[i - 1].t_s >= t_from_s; --i) {
     const std::array<bool, 3>& s = trajectory[i - 1].saturated;
@@ -190,14 +189,13 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     // axis, the fuser is told): free, ICP followed the rings' pattern and
     // the walks stood still. Its pitch no longer goes wrong there since the
     // scans that pin the attitude level it (ImuFuserParams::
-    // levelling_max_rotation_error_rad; README, The corridor's attitude).
+    // levelling_max_rotation_error_rad; docs/decisions/attitude-between-scans.md).
     // The prediction holds ICP where the scan pins the pose no better
     // (position_uncertainty.hpp); not where a clipped sensor made it a
     // guess, and not in a corridor (above) until its window is clear of
     // weak scans again: after a spell the fused velocity is whatever the
     // lost scans made it, and where the corridor half-pins its axis the
-    // prior pulled the pose along it, scans published as good (bench2's
-    // long-06: 138 scans over 20 cm off in 10 scans).
+    // prior pulled the pose along it while its scans were published as good.
     result.prediction_prior = position_uncertainty_.enabled() && conditions.trajectory_measured &&
                               !unobserved_direction_.since_spell() &&
                               !clipped_since(trajectory, position_uncertainty_.updated_at_s());
@@ -254,8 +252,7 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     // Published unobserved from the spell's start until the window is clear
     // of weak scans, not only until it falls under half the bar: after a
     // spell a corridor's scans still half-pin its axis, claim 2 cm, and the
-    // pose slid on (bench2's long-06, no prior there: 79 scans good that had
-    // slid over 20 cm in 10 scans).
+    // pose slides on.
     unobserved_direction_.add(result.degeneracy);
     result.direction_unobserved = unobserved_direction_.since_spell();
     result.unobserved_spell_ended = unobserved_direction_.spell_ended();
@@ -269,8 +266,8 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     // What a weak scan says along its weakest direction is the normals'
     // noise (the hold, icp.hpp): the prediction alone is known there, and
     // it grows scan after weak scan. Fused with the scan's few centimetres
-    // instead, bench2's long-08 published 165 scans as good that had slid
-    // over 20 cm in 10 scans along the corridor, where the prediction drifted.
+    // instead, scans that had slid along a corridor with the prediction's
+    // drift were published as good.
     Matrix6d measured = result.covariance_published;
     if (unobserved_direction_.weak(result.degeneracy)) {
       widen_along(measured, weakest_direction(result.degeneracy), params_.unobserved.sigma_m);

@@ -1,4 +1,4 @@
-// The registration half of the odometry (algorithm.md §2–5): one scan and the
+// The registration half of the odometry (docs/method.md §2–5): one scan and the
 // fuser's trajectory over it in, the registered pose out, the local map
 // updated. De-skew, down-sample, normals, weights, weighted ICP, map update.
 // Odometry runs it inside the IMU loop; tumbled runs it on its registration
@@ -41,30 +41,23 @@ struct OdometryParams {
   // σ's of the registered points are fitted from that whole cloud. 0 (or
   // <= voxel_size_m): register every point, as the paper does.
   // Why 0.2 m (ours, not the paper's): ICP and reading-normal cost are linear
-  // in the registered points (bench_core_registration, RS-16 room: 12.2k ->
-  // 2.8k points, whole scan 46 -> 16 ms of CPU); accuracy, measured: the
-  // room drive of test/core/odometry_test (900-column lidar) 4.2 mm / 0.09 deg
-  // max error with every point, 2.8 mm / 0.11 deg at 0.2 m (0.3 m: 9.3 mm /
-  // 0.16 deg); the simulated rolling-cage runs of test/core_sim (garage,
-  // ground-truth de-skew, 3 seeds, 5 m) 0.20-0.24 cm/m and 0.022-0.042
-  // deg/m with every point, 0.21-0.35 cm/m and 0.023-0.034 deg/m at 0.2 m.
+  // in the registered points (about a quarter of an RS-16 scan's points
+  // enter ICP; docs/decisions/map-spacing.md).
   double registration_voxel_size_m = 0.2;
   NormalParams reading_normals{.k = 15};
   // Where the reading's neighbourhoods come from: the k nearest points
-  // (algorithm.md §4; k and the line retry in reading_normals), or a window
+  // (docs/method.md §4; k and the line retry in reading_normals), or a window
   // of the scan's rings (ScanLineNormals; reading_normals' limits still
-  // apply). Ours: on the 82-run simulated bench (GVTW, de-skew) the window
-  // makes the normals 4-5x and a whole replay 1.5x faster; error median
-  // 0.52 vs 0.53 cm/m, max 27 vs 53, but the typical run's error 4 % higher
-  // (README, Speed). tumbled defaults to the window (registration.reading_normals,
-  // issue 14); the core's default stays the method's.
+  // apply). Ours: the window makes the normals 4-5x faster for about the
+  // same error (docs/decisions/reading-normals.md). tumbled defaults to the
+  // window (registration.reading_normals); the core's default stays the method's.
   ReadingNormalSource reading_normal_source = ReadingNormalSource::kNearest;
   ScanLineWindow scan_line_window;
   // The map: radius_m 50, min_point_distance_m 0.05, max_sigma_s_m 1,
   // max_points_per_voxel 100, voxel_size_m 0.5, normals (k 20 and the validity limits).
   LocalMapParams map;
   // Map points that a registered scan's beams see through leave the map
-  // (people, the rope puller, doors; issue 19). Only scans de-skewed with a
+  // (people, the rope puller, doors). Only scans de-skewed with a
   // measured trajectory (the beams' geometry is known only then) and
   // registered within seen_through.max_expected_error_m.
   SeenThroughParams seen_through;
@@ -184,11 +177,11 @@ enum class ScanOutcome {
   OutOfOrder,  // starts at or before the previous scan
 };
 
-// When the sensors were not all there (the daemon, issue 13): how to take one scan.
+// When the sensors were not all there (the daemon): how to take one scan.
 struct ScanConditions {
   bool deskew = true;
   // false: the trajectory is only a prediction (no IMU over the scan), so the
-  // points get the no-de-skew σ's (algorithm.md §3) even when de-skewed with it.
+  // points get the no-de-skew σ's (docs/method.md §3) even when de-skewed with it.
   bool trajectory_measured = true;
   // The registered pose is accepted only this close to the trajectory's (<= 0:
   // any); otherwise the result is `rejected`, not `registered`, and the map

@@ -1,4 +1,4 @@
-// What moved leaves the map (issue 19). A map point that a later beam passes
+// What moved leaves the map. A map point that a later beam passes
 // through was on something that has since gone: a person walking by, the
 // person pulling the cage's rope, a door. Each beam of a registered scan
 // removes the map points within beam_radius_m of its line, from min_range_m
@@ -64,7 +64,7 @@ struct SeenThroughParams {
   // anything (ScanResult::expected_error_icp_m: registration_confidence.hpp's
   // expected error of the ICP covariance as it is). A pose slipping
   // along a corridor would see through the walls at its ends, the only
-  // points that hold it: bench2's corridor cage runs then diverged.
+  // points that hold it.
   double max_expected_error_m = 0.024;
 };
 

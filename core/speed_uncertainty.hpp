@@ -1,6 +1,6 @@
 // Speed-uncertainty models of the paper (§V-A): how wrong the odometry's
 // per-axis speed estimate may be, as a function of that speed. They feed the
-// VTW/GVTW perturbations δ = ∫σ_v dt and θ = ∫σ_ω dt (algorithm.md §3).
+// VTW/GVTW perturbations δ = ∫σ_v dt and θ = ∫σ_ω dt (docs/method.md §3).
 //
 // Two pairs, because the error a weight model must cover depends on whether
 // the scan was de-skewed:
@@ -9,7 +9,7 @@
 //  - not de-skewed: the motion itself is the skew, so σ is proportional to the
 //    speed: σ_v = 0.14|v|, σ_ω = 0.72|ω| (the authors' implementation).
 //
-// Saturated axes (ours, see algorithm.md §1): when the IMU clips, the speed
+// Saturated axes (ours, see docs/method.md §1): when the IMU clips, the speed
 // along that axis is not known, so the σ must not be the clipped speed's. We
 // take the largest σ the model allows over the speeds the platform can reach:
 //  - log-normal σ_v is bounded: its maximum over all v (at v* = κ·e^{−β²});

@@ -1,6 +1,6 @@
 // The fuser's output: a bounded, time-indexed buffer of lidar states at the
 // IMU rate, and the two queries the 10 Hz pipeline makes per point
-// (algorithm.md §1–3):
+// (docs/method.md §1–3):
 //  - the lidar pose at any time, for de-skewing: linear in position, slerp in
 //    rotation between the two samples around t (paper §III-B);
 //  - the skew perturbations δ_k = ∫σ_v(|v_k|)dt and θ_k = ∫σ_ω(|ω_k|)dt from

@@ -1,17 +1,12 @@
 // A direction no registration pins down (a corridor's axis) still gets a
 // little information in ICP's normal matrix: the noise in the normals gives
 // every direction some. s²·H⁻¹ then claims a few centimetres along it while
-// the true error grows without bound, and the pose is published as good. On
-// bench2 (`tumble-sim bench --realistic`) the corridor walks stood still for
-// 35 m while 50-85 % of their scans passed the 3 cm expected-error check.
+// the true error grows without bound, and the pose is published as good.
 //
 // One weak scan is common and harmless (a rolling cage looking at the floor):
 // the IMU's prediction carries it. What marks a direction as unobserved is
-// persistence: most scans of the last couple of seconds weak. Measured on
-// bench2's scan logs (GVTW + de-skew, Degeneracy::min_eigenvalue below
-// 0.002): over any 20 scans, the corridors reach 100 % weak and hold at least
-// 90 % for 48-95 % of their scans; no other run of bench2 or bench1 goes
-// above 75 % (bench1's turntables; the yard's cage runs 70 %).
+// persistence: most scans of the last couple of seconds weak. The limits and
+// the figures that chose them: docs/decisions/unobserved-direction.md.
 #pragma once
 
 #include <cstddef>

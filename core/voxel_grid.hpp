@@ -1,4 +1,4 @@
-// Voxel-grid down-sampling (algorithm.md §4): one representative per occupied
+// Voxel-grid down-sampling (docs/method.md §4): one representative per occupied
 // cell, the point nearest the cell's centre, with all its attributes (time,
 // sigmas, weight) so the weight models still see the original point.
 #pragma once

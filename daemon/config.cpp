@@ -308,6 +308,33 @@ class Checker {
   std::string path_;
 };
 
+// ---- the key lister: every key's dotted path ------------------------------
+
+class KeyLister {
+ public:
+  template <class Body>
+  void section(std::string_view name, Body&& body) {
+    const std::size_t size = path_.size();
+    path_ += std::string(name) + ".";
+    body();
+    path_.resize(size);
+  }
+  template <class T, class C>
+  void field(std::string_view name, const T&, const C&) {
+    keys_.push_back(path_ + std::string(name));
+  }
+  template <class A, class B>
+  void one_of(std::string_view name_a, const A&, Range, std::string_view name_b, const B&, Range) {
+    keys_.push_back(path_ + std::string(name_a));
+    keys_.push_back(path_ + std::string(name_b));
+  }
+  std::vector<std::string> keys() && { return std::move(keys_); }
+
+ private:
+  std::string path_;
+  std::vector<std::string> keys_;
+};
+
 // ---- the reader: YAML tree -> struct ------------------------------------------
 
 std::string describe(const YAML::Node& node) {
@@ -662,6 +689,13 @@ std::string to_yaml(const DaemonConfig& config) {
   Writer writer;
   visit_config(writer, config);
   return writer.text();
+}
+
+std::vector<std::string> config_keys() {
+  KeyLister lister;
+  const DaemonConfig defaults;
+  visit_config(lister, defaults);
+  return std::move(lister).keys();
 }
 
 void validate(const DaemonConfig& config) {

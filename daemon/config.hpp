@@ -215,6 +215,10 @@ DaemonConfig default_config(std::span<const ConfigOverride> overrides = {});
 // The whole configuration as YAML; load_config(to_yaml(c)) == c.
 std::string to_yaml(const DaemonConfig& config);
 
+// Every key's dotted path (e.g. "imu.extrinsic_T_LI.translation_m"), in file
+// order; both rotation forms of the extrinsic are listed.
+std::vector<std::string> config_keys();
+
 // Throws ConfigError when a value set in code violates the same rules the loader checks.
 void validate(const DaemonConfig& config);
 

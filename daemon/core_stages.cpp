@@ -417,9 +417,7 @@ void CoreRegistrationStage::keep_track(const ScanResult& result) {
     // measured along that direction: a corridor's stretched or shifted.
     // Scans that pin the direction again (the corridor's end) would
     // register well on it, and be published as good, while the pose slides
-    // with the map's error (bench2's long-07 and -08, the prediction ICP's
-    // prior: 40 and 266 scans good that had slid over 20 cm in 10 scans; 6
-    // and 0 with this). A new map starts with the next scan instead.
+    // with the map's error. A new map starts with the next scan instead.
     if (result.unobserved_spell_ended) reset_map(TrackingLoss::UnobservedMap);
     return;
   }

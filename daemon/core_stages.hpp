@@ -50,7 +50,7 @@ class CoreFuserStage : public FuserStage {
   std::array<double, 3> position_var_m2_{};  // of the newest registered pose (until one: min_position_sigma_m²)
 };
 
-// The registration thread's stage. Beyond registering (issue 13):
+// The registration thread's stage. Beyond registering:
 // - IMU gap: when the fused trajectory has a hole longer than the fuser's
 //   max_imu_gap_s over the scan (the fuser counts those as gaps too), the scan is registered against a
 //   prediction from the last two registered poses (constant velocity and body
@@ -61,7 +61,8 @@ class CoreFuserStage : public FuserStage {
 //   map, not sent to the fuser.
 // - Lidar silent for longer than lidar_silent_to_reset_s: the IMU alone has
 //   carried the pose too far for a registration against the old map to be
-//   trusted (a 3 s restart mid-tumble: 15-280 cm/m, published as good). The
+//   trusted (after a 3 s restart mid-tumble such registrations were wrong by
+//   metres and published as good). The
 //   next scan starts a new local map at the fuser's pose (a reset, counted,
 //   with its reason); the health machine reported lost meanwhile.
 // - Lost: kScansToReset scans in a row not registered or untrusted, and the

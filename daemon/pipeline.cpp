@@ -396,8 +396,8 @@ void Pipeline::run_registration() {
     // The window must include every correction sent so far (the fuser applies
     // them before its next sample, so this is short): a scan de-skewed and
     // predicted from a trajectory its predecessor has not corrected yet
-    // registers worse (live runs of the default scenario: up to 7 cm/m instead
-    // of 0.4). Live, the wait is bounded like the trajectory's.
+    // registers worse, and live runs scatter with thread timing. Live, the
+    // wait is bounded like the trajectory's.
     const bool corrections_pending =
         corrections_applied_.load(std::memory_order_acquire) < corrections_pushed_ &&
         !fuser_finished_.load(std::memory_order_acquire) &&

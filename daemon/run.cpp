@@ -19,7 +19,7 @@ namespace tumble::daemon {
 
 namespace {
 
-// The run's latencies, for the operator and for measuring (README, Speed).
+// The run's latencies, for the operator and for measuring (docs/results.md, Speed).
 // Replaying at --rate max, the input waits in full rings by design: the
 // figures then measure the queues, and the line says so.
 void log_latency_summary(const LcmPublisher& publisher, bool lossless_replay) {

@@ -13,12 +13,10 @@ ScanVerdict scan_verdict(const RegistrationRecord& r, const HealthConfig& health
   if (r.imu_bridged) return ScanVerdict::ImuBridged;
   // With the gyro clipped about the spin axis the rotation there is the
   // registration's alone, and the fuser's rate for it is the registrations'
-  // at constant velocity: wrong while the spin still rises (bench 10-11 rad/s
-  // spin-ups: the 2nd and 3rd clipped scans 2-7 cm off, published 0.6 cm).
-  // Past that, a wrong rate smears the de-skewed scan, which then finds less
-  // of the map: clipped scans matched 0.34-0.55 of their points at 8 rad/s
-  // (runs under 0.2 cm/m), 0.16-0.26 at 10-11 rad/s (runs to 4.3 cm/m; 10th-90th percentiles)
-  // (README, "The verdict, recalibrated").
+  // at constant velocity: wrong while the spin still rises, so a spell's
+  // first scans are not good. Past that, a wrong rate smears the de-skewed
+  // scan, which then finds less of the map, so a clipped scan must match
+  // more than others (docs/decisions/verdict-limits.md).
   const bool spin_settled_and_matched = r.registered &&
                                         r.spin_clipped_scans_in_row > health.spin_clipped_scans_to_settle &&
                                         r.matched_ratio >= health.min_matched_ratio_spin_clipped;

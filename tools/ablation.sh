@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 15's ablation (README, "Which sources make bench2 hard"): bench2's
+# The ablation of bench2's error sources (docs/decisions/deskew-and-weights.md): bench2's
 # first cage runs remade with each error source alone (the same scenarios and
 # seeds, every other switch removed), with all of them (bench2's own bytes),
 # and with all of them plus each source bench2 leaves off (imu.vibration,

@@ -21,7 +21,7 @@ eval=$amd64/tools/eval/tumble-eval
 scenario=$root/tools/sim/scenarios/default.yaml
 run=$out/default-run
 # liblcm1 and libyaml-cpp for arm64 cannot be installed beside the amd64 ones:
-# ./tumble unpacks them here (README, Install on a robot).
+# ./tumble unpacks them here (docs/decisions/build.md).
 arm64_deps=$root/build/arm64-deps/usr/lib/aarch64-linux-gnu
 
 log() { printf '\033[1m[arm64-check]\033[0m %s\n' "$*" >&2; }
@@ -60,7 +60,7 @@ for arch in amd64 arm64; do
     "$amd64/daemon/tumbled" "${replay[@]}" --trajectory-out "$out/$arch.tum" 2>"$out/$arch.log"
   else
     log "replaying through $arm64_tumbled under qemu-aarch64 (a few minutes)"
-    # -L /: the loader of libc6:arm64, the glibc build the libraries find (README, On arm64).
+    # -L /: the loader of libc6:arm64, the glibc build the libraries find (docs/decisions/build.md).
     qemu-aarch64 -L / -E "LD_LIBRARY_PATH=$arm64_deps" "$arm64_tumbled" "${replay[@]}" \
       --trajectory-out "$out/$arch.tum" 2>"$out/$arch.log"
   fi

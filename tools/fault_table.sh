@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The fault x run table of issue 13 (README, Results): each fault class alone
+# The fault x run table (docs/results.md, Sensor faults): each fault class alone
 # on each given run folder (tumble-sim run or a bench's cage runs), replayed
 # with `tumbled --rate max`, scored against the run's ground truth, with the
 # health states and fault warnings tumbled logged. Markdown on stdout. Not in CI.

@@ -27,8 +27,7 @@ struct SerialSourceOptions {
   TimeMapperOptions time_mapper;
   // Back-off doubles from reconnect_min_s up to reconnect_max_s, and resets
   // once samples flow. One open() a second costs nothing, and finds a
-  // replugged MTi within a second of its return (issue 13: recovered within
-  // 1 s of the data returning).
+  // replugged MTi within a second of its return.
   double reconnect_min_s = 0.1;
   double reconnect_max_s = 1.0;
   double tick_s = 0.02;              // configurator retries and timeouts

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <fstream>
+#include <iterator>
+#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -46,6 +49,63 @@ TEST(Config, ShippedFileListsEveryKey) {
     const std::string key = line.substr(0, line.find(':'));
     EXPECT_NE(shipped.find(key + ":"), std::string::npos) << key;
   }
+}
+
+// The leaf keys of to_yaml's output as dotted paths (two spaces of indent per level).
+std::vector<std::string> printed_key_paths(const DaemonConfig& config) {
+  std::vector<std::string> keys, path;
+  std::istringstream printed(to_yaml(config));
+  for (std::string line; std::getline(printed, line);) {
+    const std::size_t indent = line.find_first_not_of(' ');
+    const std::size_t colon = line.find(':');
+    if (indent == std::string::npos || colon == std::string::npos) continue;
+    path.resize(indent / 2);
+    const std::string name = line.substr(indent, colon - indent);
+    if (line.find_first_not_of(' ', colon + 1) == std::string::npos) {
+      path.push_back(name);  // a section
+    } else {
+      std::string key;
+      for (const std::string& part : path) key += part + ".";
+      keys.push_back(key + name);
+    }
+  }
+  return keys;
+}
+
+std::vector<std::string> sorted_keys(std::vector<std::string> keys) {
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+TEST(Config, KeysAreEveryKeyThePrinterWritesOnce) {
+  DaemonConfig quaternion;
+  quaternion.imu.extrinsic_T_LI.rotation_rpy_deg.reset();
+  quaternion.imu.extrinsic_T_LI.rotation_quaternion_wxyz = std::array<double, 4>{1.0, 0.0, 0.0, 0.0};
+  std::vector<std::string> printed = printed_key_paths(DaemonConfig{});
+  printed.push_back("imu.extrinsic_T_LI.rotation_quaternion_wxyz");
+  EXPECT_EQ(sorted_keys(config_keys()), sorted_keys(printed));
+  const std::vector<std::string> with_quaternion = printed_key_paths(quaternion);
+  EXPECT_NE(std::find(with_quaternion.begin(), with_quaternion.end(), "imu.extrinsic_T_LI.rotation_quaternion_wxyz"),
+            with_quaternion.end());
+}
+
+TEST(Config, ConfigurationDocListsExactlyTheSchemasKeys) {
+  // docs/configuration.md documents each key in a table row that starts with it: | `lidar.msop_port` | ...
+  const std::string page = read_file(std::string(TUMBLE_SOURCE_DIR) + "/docs/configuration.md");
+  ASSERT_FALSE(page.empty());
+  std::vector<std::string> documented;
+  const std::regex row(R"(\n\| `([A-Za-z0-9_.]+)` \|)");
+  for (auto it = std::sregex_iterator(page.begin(), page.end(), row); it != std::sregex_iterator(); ++it)
+    documented.push_back((*it)[1].str());
+  const std::vector<std::string> doc = sorted_keys(documented), schema = sorted_keys(config_keys());
+  std::vector<std::string> undocumented, unknown;
+  std::set_difference(schema.begin(), schema.end(), doc.begin(), doc.end(), std::back_inserter(undocumented));
+  std::set_difference(doc.begin(), doc.end(), schema.begin(), schema.end(), std::back_inserter(unknown));
+  EXPECT_TRUE(undocumented.empty()) << "keys of daemon/config.cpp's schema missing from docs/configuration.md: "
+                                    << ::testing::PrintToString(undocumented);
+  EXPECT_TRUE(unknown.empty()) << "keys in docs/configuration.md that the schema does not have: "
+                               << ::testing::PrintToString(unknown);
+  EXPECT_EQ(doc.size(), schema.size()) << "a key is documented twice";
 }
 
 TEST(Config, DefaultsAreThePaperValues) {

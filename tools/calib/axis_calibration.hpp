@@ -5,7 +5,7 @@
 //     taken before the rig first moved. The paper takes "the residual at
 //     0 m/s", assuming the odometry's error is negligible at rest; in this
 //     pipeline it is not after a motion (the fused attitude keeps turning,
-//     see README), so rest after a motion would count skew as noise;
+//     tools/calib/README.md), so rest after a motion would count skew as noise;
 //  3. each scan's skew residual r (its residual without the noise):
 //       subtract   — the paper's literal step: r = mean − mean₀;
 //       quadrature — ours, the default: noise and skew add in squares, so
@@ -14,7 +14,7 @@
 //                    the skew dominates; when it is comparable with the
 //                    noise (as in the simulator: ~1 cm vs 2 cm), |n + s|
 //                    barely exceeds |n| on average and the subtraction
-//                    reads a fraction of the skew (README has the numbers);
+//                    reads a fraction of the skew (tools/calib/README.md);
 //  4. convert with the paper's equations, with the scan's own τ (last −
 //     first point time) and, for the angular one, its own mean range d:
 //       σ_v = 2 r_v / τ          (r_v ≈ σ_v τ / 2)

@@ -93,7 +93,7 @@ OdometryParams rig_registration_params() {
   p.reading_normal_source = ReadingNormalSource::kScanLines;
   // The passes de-skew with a gyro model still being fitted: beams traced
   // with it would clear map points that are there. The calibration's scene
-  // holds still (README, Rig set-up, step 2).
+  // holds still (docs/robot-setup.md, step 4).
   p.seen_through.enabled = false;
   return p;
 }

@@ -1,4 +1,4 @@
-// tumble-eval integrity (issue 19): tumbled's expected error (the scan log's
+// tumble-eval integrity: tumbled's expected error (the scan log's
 // expected_error_m, registration_t.expected_error_m) scored as a detector of
 // wrong poses, and its published position covariance checked for consistency
 // (NEES), against ground truth.

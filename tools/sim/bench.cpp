@@ -348,7 +348,7 @@ std::vector<BenchRun> plan_realistic_bench(std::uint64_t seed) {
       plan.push_back(std::move(run));
     }
   }
-  // The runaway runs (issue 44's hall): the long cage run down the
+  // The runaway runs (the hall): the long cage run down the
   // glass-ended hall, whose axis only a few pillars pin, with people walking
   // across, the rope puller ahead, mixed pixels and 1 ms of network jitter.
   SensorRng hall_rng(seed, "bench-hall-runs");

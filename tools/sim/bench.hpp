@@ -38,7 +38,7 @@ struct BenchOptions {
 
 std::vector<BenchRun> plan_bench(std::uint64_t seed);
 
-// bench2 (issue 15): the same rail, turntable and cage runs with every sensor
+// bench2: the same rail, turntable and cage runs with every sensor
 // error source of tumble-sim on at its datasheet magnitude, the rig's
 // uncalibrated lidar-IMU time offset, the cage's bars in the lidar's view,
 // and long out-and-back runs (>= 60 s, >= 50 m) in the garage, the corridor

@@ -1,4 +1,4 @@
-// Moving people in the scene (issues 15 and 19): walkers crossing it and the
+// Moving people in the scene: walkers crossing it and the
 // person who pulls the rolling cage's rope, walking ahead of it. Each person
 // is a vertical capped cylinder standing on the floor; the lidar model tests
 // them beside the static scene's BVH, for every beam at its own firing time.
