@@ -37,6 +37,6 @@ log "replaying through tumbled ${rate[*]} $*; watch it with: $build/lcmtypes/tum
   --trajectory-out "$out/trajectory.tum" --scan-log "$out/scans.csv" "$@"
 
 echo
-"$eval" score "$run/ground_truth.tum" "$out/trajectory.tum" --scan-log "$out/scans.csv"
+"$eval" score "$run/ground_truth.tum" "$out/trajectory.tum" --scan-log "$out/scans.csv" --plots "$out/plots"
 echo
 log "trajectory (TUM, for evo): $out/trajectory.tum; per-scan log: $out/scans.csv"
