@@ -5,6 +5,9 @@
 #include <CLI/CLI.hpp>
 #include <charconv>
 #include <cmath>
+#include <system_error>
+
+#include "tumble_build_info.hpp"
 
 namespace tumble::daemon {
 
@@ -20,16 +23,22 @@ ReplayRate parse_replay_rate(const std::string& text) {
 
 CommandLine parse_command_line(const std::vector<std::string>& args) {
   CLI::App app{"tumbled: lidar-inertial odometry daemon (RS-16 + MTi-30 -> LCM)", "tumbled"};
-  app.set_version_flag("--version", "tumbled 0.1.0");
+  // Fires while parsing, so it needs none of the required arguments.
+  app.set_version_flag("--version", std::string("tumbled ") + kVersion)->trigger_on_parse();
   app.footer(
-      "Live by default: reads the lidar's UDP packets and the IMU's serial port as configured.\n"
-      "Exit codes: 0 clean stop, 1 runtime failure, 2 bad configuration or command line.");
+      "Live by default: reads the lidar's UDP packets and the IMU's serial port as configured.\n\n"
+      "Exit status:\n"
+      "  0 clean stop, 1 runtime failure, 2 bad configuration or command line.");
+  // Room for the longest option and its notes, so help2man finds where each description starts.
+  app.get_formatter()->column_width(40);
 
   CommandLine out;
   std::string config_path, rate, trajectory_out, scan_log, model, lcm_url, log_level, record_dir;
   std::vector<std::string> settings;
   std::vector<std::string> replay;
-  app.add_option("--config", config_path, "YAML configuration file (default: the compiled defaults)")
+  app.add_option("--config", config_path,
+                 fmt::format("YAML configuration file (default: {} where it exists, else the compiled defaults)",
+                             kSystemConfigPath))
       ->check(CLI::ExistingFile);
   auto* replay_option =
       app.add_option("--replay", replay, "replay a lidar pcap and an IMU pcap instead of live sensors")
@@ -88,6 +97,16 @@ CommandLine parse_command_line(const std::vector<std::string>& args) {
   if (no_deskew_flag) out.overrides.push_back({"registration.deskew", "false"});
   if (level_option->count() > 0) out.overrides.push_back({"daemon.log_level", log_level});
   return out;
+}
+
+void use_system_config_unless_given(CommandLine& command_line, const std::filesystem::path& system_config_path) {
+  if (command_line.config_path) return;
+  std::error_code ignored;
+  if (std::filesystem::exists(system_config_path, ignored)) command_line.config_path = system_config_path.string();
+}
+
+std::string config_origin(const CommandLine& command_line) {
+  return command_line.config_path.value_or("compiled defaults");
 }
 
 DaemonConfig effective_config(const CommandLine& command_line) {

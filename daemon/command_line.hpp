@@ -2,6 +2,7 @@
 // ConfigOverrides, so they pass the same validation as the file and win over it.
 #pragma once
 
+#include <filesystem>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -44,7 +45,15 @@ struct CommandLine {
 // args[0] is the program name. Throws UsageError.
 CommandLine parse_command_line(const std::vector<std::string>& args);
 
-// Defaults < --config file < flags. Throws ConfigError.
+// Without --config, the system configuration file is read where it exists:
+// sets config_path to system_config_path then (tumbled passes
+// kSystemConfigPath, /etc/tumble/tumbled.yaml for the package).
+void use_system_config_unless_given(CommandLine& command_line, const std::filesystem::path& system_config_path);
+
+// What tumbled logs at start: the configuration file's path, or "compiled defaults".
+std::string config_origin(const CommandLine& command_line);
+
+// Defaults < config file < flags. Throws ConfigError.
 DaemonConfig effective_config(const CommandLine& command_line);
 
 // "max" or a positive factor ("1", "4", "0.5"). Throws UsageError.

@@ -14,6 +14,7 @@
 #include "daemon/main_loop.hpp"
 #include "daemon/run.hpp"
 #include "daemon/sensor_parts.hpp"
+#include "tumble_build_info.hpp"
 
 int main(int argc, char** argv) {
   using namespace tumble::daemon;
@@ -27,6 +28,7 @@ int main(int argc, char** argv) {
       fmt::print("{}", command_line.help);
       return 0;
     }
+    use_system_config_unless_given(command_line, tumble::kSystemConfigPath);
     config = effective_config(command_line);
   } catch (const UsageError& e) {
     fmt::print(stderr, "tumbled: {} (see tumbled --help)\n", e.what());
@@ -43,6 +45,7 @@ int main(int argc, char** argv) {
   try {
     ShutdownSignals signals;  // before any thread starts (the logger's too), so every thread inherits the mask
     const AsyncLogging logging(config.daemon.log_level);
+    spdlog::info("tumbled {}: configuration from {}", tumble::kVersion, config_origin(command_line));
     try {
       lcm::LCM lcm(config.lcm.url);
       if (!lcm.good()) {

@@ -3,7 +3,8 @@
 #   packaging/build-deb.sh BUILD_DIR ARCH OUT_DIR [VERSION]
 # -> OUT_DIR/tumble_<VERSION>_<ARCH>.deb. VERSION defaults to the CMake
 # project's (project(tumble VERSION ...), read from BUILD_DIR's cache).
-# The files are what `cmake --install --prefix /usr --strip` puts in place;
+# The files are what `cmake --install --strip` puts in place (the tree must be
+# configured with the prefix /usr);
 # runtime dependencies come from dpkg-shlibdeps. A cross tree's unpacked arm64
 # packages (TUMBLE_ARM64_DEPS, see cmake/aarch64-linux-gnu.cmake) are given
 # to dpkg-shlibdeps with their own shlibs entries, as dpkg does not know them.
@@ -17,6 +18,13 @@ out=$(readlink -f "$3")
 cache_value() { sed -n "s/^$1:[A-Z]*=//p" "$build/CMakeCache.txt"; }
 version=${4:-$(cache_value CMAKE_PROJECT_VERSION)}
 [ -n "$version" ] || { echo "$0: no CMAKE_PROJECT_VERSION in $build/CMakeCache.txt" >&2; exit 1; }
+# tumbled compiles in its configuration's path from the configured prefix.
+prefix=$(cache_value CMAKE_INSTALL_PREFIX)
+[ "$prefix" = /usr ] || {
+  echo "$0: $build is configured for the prefix $prefix, where tumbled would look for $prefix/etc/tumble/tumbled.yaml;" \
+    "the package needs -DCMAKE_INSTALL_PREFIX=/usr" >&2
+  exit 1
+}
 
 work=$out/deb-$arch-$version
 stage=$work/root

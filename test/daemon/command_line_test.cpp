@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "test/temp_dir.hpp"
+
 namespace tumble::daemon {
 namespace {
 
@@ -40,6 +42,36 @@ TEST(CommandLine, NoFlagsMeansLiveWithDefaults) {
   EXPECT_FALSE(c.replay);
   EXPECT_TRUE(c.overrides.empty());
   EXPECT_EQ(effective_config(c), DaemonConfig{});
+}
+
+// A temp dir stands in for the system configuration folder (/etc/tumble).
+TEST(CommandLine, WithoutConfigTheSystemFileIsReadWhereItExists) {
+  const test::TempDir etc("system-config");
+  const fs::path system_file = etc.path() / "tumbled.yaml";
+  CommandLine absent = parse({});
+  use_system_config_unless_given(absent, system_file);
+  EXPECT_FALSE(absent.config_path);
+  EXPECT_EQ(config_origin(absent), "compiled defaults");
+  EXPECT_EQ(effective_config(absent), DaemonConfig{});
+
+  std::ofstream(system_file) << "registration:\n  model: TW\n";
+  CommandLine present = parse({"--log-level", "warn"});
+  use_system_config_unless_given(present, system_file);
+  EXPECT_EQ(config_origin(present), system_file.string());
+  const DaemonConfig config = effective_config(present);
+  EXPECT_EQ(config.registration.model, WeightModel::TW);
+  EXPECT_EQ(config.daemon.log_level, LogLevel::Warn);
+}
+
+TEST(CommandLine, AGivenConfigWinsOverTheSystemFile) {
+  const test::TempDir etc("system-config");
+  const fs::path system_file = etc.path() / "tumbled.yaml";
+  std::ofstream(system_file) << "registration:\n  model: TW\n";
+  const TempFile given("registration:\n  model: SAW\n");
+  CommandLine c = parse({"--config", given.path()});
+  use_system_config_unless_given(c, system_file);
+  EXPECT_EQ(config_origin(c), given.path());
+  EXPECT_EQ(effective_config(c).registration.model, WeightModel::SAW);
 }
 
 TEST(CommandLine, FlagsOverrideTheConfigFile) {

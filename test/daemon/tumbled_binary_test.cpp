@@ -8,6 +8,7 @@
 
 #include "daemon/config.hpp"
 #include "test/daemon/process.hpp"
+#include "tumble_build_info.hpp"
 
 namespace tumble::daemon {
 namespace {
@@ -64,10 +65,18 @@ TEST(TumbledBinary, UsageErrorsExitTwo) {
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
 }
 
-TEST(TumbledBinary, HelpExitsZero) {
+TEST(TumbledBinary, HelpExitsZeroAndNamesTheSystemConfiguration) {
   const test::ProcessResult r = test::run_process({kTumbled, "--help"});
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_NE(r.out.find("--trajectory-out"), std::string::npos);
+  EXPECT_NE(r.out.find(std::string("default: ") + kSystemConfigPath + " where it exists"), std::string::npos) << r.out;
+}
+
+// help2man reads the program's name and version from the first line.
+TEST(TumbledBinary, VersionIsTheProjectVersion) {
+  const test::ProcessResult r = test::run_process({kTumbled, "--version"});
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.out, std::string("tumbled ") + kVersion + "\n");
 }
 
 }  // namespace

@@ -16,6 +16,9 @@ for tool in dpkg-deb dpkg-shlibdeps systemd-analyze systemd-sysusers deb-systemd
   command -v "$tool" >/dev/null || skip "$tool not installed (Debian packages dpkg-dev, systemd, init-system-helpers)"
 done
 
+prefix=$(sed -n 's/^CMAKE_INSTALL_PREFIX:PATH=//p' "$build/CMakeCache.txt")
+[ "$prefix" = /usr ] || skip "the tree's prefix is $prefix; the package is built from a tree configured for /usr"
+
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 fail() { echo "FAILED: $*" >&2; exit 1; }
@@ -42,7 +45,14 @@ for f in usr/bin/tumbled usr/bin/tumble-sim usr/bin/tumble-eval usr/bin/tumble-c
          usr/bin/tumble-spy usr/share/java/tumble-lcmtypes.jar usr/lib/systemd/system/tumbled.service \
          usr/lib/sysusers.d/tumble.conf usr/lib/udev/rules.d/99-tumble-mti.rules usr/lib/sysctl.d/60-tumble.conf \
          etc/tumble/tumbled.yaml \
-         usr/share/doc/tumble/copyright; do
+         usr/share/doc/tumble/copyright usr/share/doc/tumble/lcm-interface.md \
+         usr/share/man/man1/tumbled.1.gz usr/share/man/man1/tumble-sim.1.gz usr/share/man/man1/tumble-eval.1.gz \
+         usr/share/man/man1/tumble-calib.1.gz usr/share/man/man1/tumble-dump.1.gz usr/share/man/man1/tumble-spy.1.gz \
+         usr/share/tumble/lcmtypes/odometry_t.lcm usr/share/tumble/lcmtypes/registration_t.lcm \
+         usr/share/tumble/lcmtypes/status_t.lcm usr/share/tumble/lcmtypes/scan_t.lcm \
+         usr/include/tumble/odometry_t.hpp usr/include/tumble/registration_t.hpp \
+         usr/include/tumble/status_t.hpp usr/include/tumble/scan_t.hpp \
+         usr/share/pkgconfig/tumble-lcmtypes.pc usr/share/cmake/tumble-lcmtypes/tumble-lcmtypes-config.cmake; do
   [ -e "$root/$f" ] || fail "/$f not installed"
 done
 dpkg-query --root="$root" -W -f='${Conffiles}\n' tumble | grep -q '^ /etc/tumble/tumbled.yaml ' ||
@@ -65,6 +75,23 @@ echo "== the installed tumbled --print-config"
 "$root/usr/bin/tumbled" --config "$root/etc/tumble/tumbled.yaml" --print-config >"$work/config.txt" ||
   fail "tumbled --print-config exited $?"
 grep -q 'device: "\{0,1\}/dev/ttyUSB0' "$work/config.txt" || fail "--print-config does not show imu.device: $(cat "$work/config.txt")"
+
+echo "== the installed tumbled reads /etc/tumble/tumbled.yaml without --config"
+"$root/usr/bin/tumbled" --help | grep -q 'default: /etc/tumble/tumbled.yaml where it exists' ||
+  fail "tumbled --help does not name /etc/tumble/tumbled.yaml as its default configuration"
+
+echo "== the installed LCM headers compile, found through pkg-config"
+cflags=$(PKG_CONFIG_PATH="$root/usr/share/pkgconfig" pkg-config --define-variable=prefix="$root/usr" --cflags tumble-lcmtypes) ||
+  fail "pkg-config tumble-lcmtypes"
+printf '#include <tumble/%s.hpp>\n' odometry_t registration_t status_t scan_t |
+  c++ -std=c++17 -fsyntax-only $cflags -x c++ - || fail "the installed headers do not compile with $cflags"
+
+echo "== the installed C++ subscriber example builds, finding the headers with find_package(tumble-lcmtypes)"
+cmake -S "$root/usr/share/doc/tumble/examples/subscriber_cpp" -B "$work/example" -DCMAKE_PREFIX_PATH="$root/usr" \
+  >"$work/example.log" 2>&1 && cmake --build "$work/example" >>"$work/example.log" 2>&1 ||
+  { cat "$work/example.log" >&2; fail "the installed C++ example does not build"; }
+grep -rqF -- "$root/usr/include" "$work/example/CMakeFiles" ||
+  fail "the example did not use the installed headers"
 
 echo "== edit the conffile, upgrade to $(basename "$upgrade")"
 sed -i 's|device: "/dev/ttyUSB0"|device: "/dev/xsens"|' "$root/etc/tumble/tumbled.yaml"

@@ -30,6 +30,7 @@
 #include "tools/calib/plot.hpp"
 #include "tools/calib/report.hpp"
 #include "tools/calib/rig_command.hpp"
+#include "tumble_build_info.hpp"
 
 namespace {
 
@@ -75,7 +76,10 @@ int main(int argc, char** argv) {
   if (argc > 1 && std::string(argv[1]) == "rig") return tumble::calib::run_rig_command(argc - 1, argv + 1);
   CLI::App app{
       "tumble-calib: fit the speed-uncertainty models (paper section V-A) on a rail + turntable bench "
-      "(tumble-calib rig --help: the lidar-IMU calibration of a rig)"};
+      "(tumble-calib rig --help: the lidar-IMU calibration of a rig)",
+      "tumble-calib"};
+  // Fires while parsing, so it needs none of the required arguments.
+  app.set_version_flag("--version", std::string("tumble-calib ") + tumble::kVersion)->trigger_on_parse();
   std::string bench_dir, out_dir, model_name = "NM";
   unsigned jobs = 1;
   std::size_t point_stride = 1;

@@ -14,6 +14,7 @@
 #include "drivers/rs16/lidar_datagram.hpp"
 #include "tools/dump/mti_dump.hpp"
 #include "tools/dump/rs16_dump.hpp"
+#include "tumble_build_info.hpp"
 
 namespace {
 
@@ -31,7 +32,10 @@ void log_errors_only_to_stderr() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tumble-dump: print a recording as CSV (or --summary)"};
+  CLI::App app{"tumble-dump: print a recording as CSV (or --summary)", "tumble-dump"};
+  // Fires while parsing, so it needs none of the required arguments.
+  app.set_version_flag("--version", std::string("tumble-dump ") + tumble::kVersion)->trigger_on_parse();
+  app.set_help_all_flag("--help-all", "Print the help of every subcommand and exit");
   app.require_subcommand(1);
 
   std::string rs16_path;

@@ -26,6 +26,7 @@
 #include "tools/eval/speed_report.hpp"
 #include "tools/eval/tum_file.hpp"
 #include "tools/eval/tumbled_job.hpp"
+#include "tumble_build_info.hpp"
 
 namespace {
 
@@ -264,7 +265,10 @@ int run_integrity(const IntegrityOptions& options) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tumble-eval: the paper's evaluation of tumbled on a tumble-sim bench"};
+  CLI::App app{"tumble-eval: the paper's evaluation of tumbled on a tumble-sim bench", "tumble-eval"};
+  // Fires while parsing, so it needs none of the required arguments.
+  app.set_version_flag("--version", std::string("tumble-eval ") + tumble::kVersion)->trigger_on_parse();
+  app.set_help_all_flag("--help-all", "Print the help of every subcommand and exit");
   app.require_subcommand(1);
 
   CommonOptions matrix_options;

@@ -15,6 +15,7 @@
 #include "tools/sim/live.hpp"
 #include "tools/sim/live_sinks.hpp"
 #include "tools/sim/run_writer.hpp"
+#include "tumble_build_info.hpp"
 
 namespace {
 
@@ -116,7 +117,10 @@ void parse_refusal(const std::string& text, MtiDeviceOptions& mti) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"tumble-sim: the extreme-motion sensor bench in software (RS-16 lidar + MTi-30 IMU)"};
+  CLI::App app{"tumble-sim: the extreme-motion sensor bench in software (RS-16 lidar + MTi-30 IMU)", "tumble-sim"};
+  // Fires while parsing, so it needs none of the required arguments.
+  app.set_version_flag("--version", std::string("tumble-sim ") + tumble::kVersion)->trigger_on_parse();
+  app.set_help_all_flag("--help-all", "Print the help of every subcommand and exit");
   app.require_subcommand(1);
 
   std::string scenario_path, out_dir;
