@@ -1,9 +1,11 @@
 // An output file that never exists half-written: written to PATH.partial and
-// renamed to PATH by commit(), however the process stops.
+// renamed to PATH by commit(), however the process stops. After a power cut,
+// PATH.partial holds what append_durably() last made durable.
 #pragma once
 
 #include <cstdio>
 #include <string>
+#include <string_view>
 
 namespace tumble::daemon {
 
@@ -16,7 +18,12 @@ class AtomicFile {
 
   // Null once committed.
   std::FILE* get() const { return file_; }
-  // Flushes, syncs and renames PATH.partial to PATH. Throws std::system_error.
+  // Writes text and flushes it to the disk (fdatasync): 0, or the errno of
+  // the write or sync that failed. The file's error state is cleared, so a
+  // later call (the disk has room again) can succeed.
+  int append_durably(std::string_view text);
+  // Flushes, syncs and renames PATH.partial to PATH, then syncs the directory
+  // so that the rename itself survives a power cut. Throws std::system_error.
   void commit();
   const std::string& path() const { return path_; }
 

@@ -184,6 +184,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("registration_threads", d.registration_threads, IntRange{1, 64});
     v.field("log_level", d.log_level, Choice<LogLevel>{kLogLevels});
     v.field("status_period_s", d.status_period_s, Range{0.1, 60.0});
+    v.field("checkpoint_period_s", d.checkpoint_period_s, Range{0.1, 60.0});
     v.section("health", [&] {
       auto& h = d.health;
       v.field("sensor_timeout_s", h.sensor_timeout_s, Range{0.01, 60.0});
@@ -199,7 +200,12 @@ void visit_config(Visitor& v, Config& c) {
       v.field("second_lidar_rate_hz", h.second_lidar_rate_hz, Range{1.0, 100000.0});
     });
   });
-  v.section("record", [&] { v.field("dir", c.record.dir, AnyText{}); });
+  v.section("record", [&] {
+    v.field("dir", c.record.dir, AnyText{});
+    v.field("max_segment_mib", c.record.max_segment_mib, IntRange{1, 1 << 20});
+    v.field("max_segment_s", c.record.max_segment_s, Range{1.0, 86400.0});
+    v.field("min_free_mib", c.record.min_free_mib, IntRange{0, 1 << 20});
+  });
 }
 
 // ---- checks shared by the loader and validate() -----------------------------

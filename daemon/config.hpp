@@ -177,12 +177,16 @@ struct DaemonSection {
   int registration_threads = 2;
   LogLevel log_level = LogLevel::Info;
   double status_period_s = 1.0;
+  double checkpoint_period_s = 2.0;  // output files are made durable this often: a power cut loses at most this
   HealthConfig health;
   bool operator==(const DaemonSection&) const = default;
 };
 
 struct RecordConfig {
   std::string dir;  // empty: do not record
+  int max_segment_mib = 1024;  // a segment (one directory) is closed after this many MiB of both files
+  double max_segment_s = 600.0;  // or after this long
+  int min_free_mib = 1024;  // recording pauses below this much free space on record.dir's file system
   bool operator==(const RecordConfig&) const = default;
 };
 

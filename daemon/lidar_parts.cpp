@@ -2,6 +2,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
+#include <cerrno>
 #include <string>
 
 #include "daemon/driver_params.hpp"
@@ -21,31 +23,67 @@ std::uint16_t port_of(const rs16::SourceConfig& ports, rs16::PacketKind kind) {
 }  // namespace
 
 LiveLidarSource::LiveLidarSource(boost::asio::io_context& io, const LidarConfig& config)
-    : ports_(lidar_source_config(config)) {
+    : config_(config), ports_(lidar_source_config(config)), io_(io), retry_timer_(io) {
+  try_bind();
+}
+
+bool LiveLidarSource::try_bind() {
   rs16::UdpSourceConfig udp;
-  udp.bind_address = config.bind_address;
+  udp.bind_address = config_.bind_address;
   udp.ports = ports_;
   udp.ports.source_ip.reset();
-  udp.receive_buffer_bytes = config.receive_buffer_bytes;
-  udp_ = std::make_unique<rs16::UdpSource>(io, udp, [this](const rs16::LidarDatagram& d) {
-    if (!on_datagram_) return;
-    on_datagram_(LidarDatagram{d.arrival_s, d.source_ip, port_of(ports_, d.kind), port_of(ports_, d.kind), d.payload});
-  });
+  udp.receive_buffer_bytes = config_.receive_buffer_bytes;
+  try {
+    udp_ = std::make_unique<rs16::UdpSource>(io_, udp, [this](const rs16::LidarDatagram& d) {
+      if (!on_datagram_) return;
+      on_datagram_(
+          LidarDatagram{d.arrival_s, d.source_ip, port_of(ports_, d.kind), port_of(ports_, d.kind), d.payload});
+    });
+  } catch (const rs16::BindError& e) {
+    if (e.error_number() != EADDRINUSE && e.error_number() != EADDRNOTAVAIL) throw;
+    if (failed_binds_++ == 0) first_failure_ = std::chrono::steady_clock::now();
+    spdlog::warn("lidar: {} (lidar.bind_address, lidar.msop_port/difop_port); retrying in {:.2f} s, attempt {}, "
+                 "until it binds or tumbled stops",
+                 e.what(), std::chrono::duration<double>(retry_delay_).count(), failed_binds_);
+    return false;
+  }
+  if (failed_binds_ > 0)
+    spdlog::info("lidar: bound {}:{}/{} after {} failed attempts over {:.1f} s", config_.bind_address,
+                 ports_.msop_port, ports_.difop_port, failed_binds_,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - first_failure_).count());
   const int granted = udp_->granted_receive_buffer_bytes();
-  if (granted < config.receive_buffer_bytes)
+  if (granted < config_.receive_buffer_bytes)
     spdlog::warn("lidar: the kernel granted {} KiB of socket receive buffer, below lidar.receive_buffer_bytes ({} KiB): "
                  "a stall of the io thread longer than {:.2f} s loses lidar packets. Raise net.core.rmem_max "
                  "(the package's /usr/lib/sysctl.d/60-tumble.conf, then `sysctl --system`)",
-                 granted / 1024, config.receive_buffer_bytes / 1024, granted / kMsopBytesPerSecond);
+                 granted / 1024, config_.receive_buffer_bytes / 1024, granted / kMsopBytesPerSecond);
+  return true;
+}
+
+void LiveLidarSource::retry_later() {
+  retry_timer_.expires_after(retry_delay_);
+  retry_timer_.async_wait([this](const boost::system::error_code& ec) {
+    if (ec || stopped_) return;
+    retry_delay_ = std::min(retry_delay_ * 2, kLongestRetryDelay);
+    if (try_bind())
+      udp_->start();
+    else
+      retry_later();
+  });
 }
 
 void LiveLidarSource::start(std::function<void(const LidarDatagram&)> on_datagram, std::function<void()>) {
   on_datagram_ = std::move(on_datagram);  // live sockets never end
-  udp_->start();
+  if (udp_)
+    udp_->start();
+  else
+    retry_later();
 }
 
 void LiveLidarSource::stop() {
-  udp_->stop();
+  stopped_ = true;
+  retry_timer_.cancel();
+  if (udp_) udp_->stop();
   on_datagram_ = nullptr;
 }
 
@@ -58,7 +96,8 @@ Rs16LidarDecoder::Rs16LidarDecoder(const LidarConfig& config)
 bool Rs16LidarDecoder::decode(const LidarDatagram& datagram, PointBlock& block) {
   foreign_msop_rate_.advance(datagram.arrival_s);
   const std::optional<rs16::PacketKind> kind = rs16::kind_for_port(source_, datagram.dst_port);
-  if (!kind || !lidar_.may_be_lidar(datagram.src_ip)) {
+  last_from_the_lidar_ = kind && lidar_.may_be_lidar(datagram.src_ip);
+  if (!last_from_the_lidar_) {
     if (kind == rs16::PacketKind::Msop) foreign_msop_rate_.count();
     ignore(datagram);
     return false;

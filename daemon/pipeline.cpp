@@ -179,11 +179,14 @@ void Pipeline::advance_sensor_time(double t_s) {
 
 void Pipeline::on_lidar_datagram(const LidarDatagram& datagram) {
   advance_sensor_time(datagram.arrival_s);
-  if (parts_.recorder) parts_.recorder->record_lidar(datagram);
   wait_for_room(lidar_, &io_blocked_on_lidar_);
   const bool has_points =
       lidar_.push_if([&](PointBlock& block) { return parts_.lidar_decoder->decode(datagram, block); });
   parts_.lidar_decoder->report(counters_);
+  if (parts_.recorder && parts_.lidar_decoder->last_from_the_lidar()) {
+    parts_.recorder->record_lidar(datagram);
+    parts_.recorder->report(counters_);
+  }
   if (has_points) {
     newest_lidar_s_ = datagram.arrival_s;
     counters_.last_lidar_steady_ns.store(steady_now_ns(), std::memory_order_relaxed);
@@ -195,7 +198,10 @@ void Pipeline::on_imu_bytes(const ImuBytes& bytes) {
   advance_sensor_time(bytes.arrival_s);
   imu_bytes_arrival_s_ = bytes.arrival_s;
   imu_bytes_steady_ns_ = steady_now_ns();
-  if (parts_.recorder) parts_.recorder->record_imu(bytes);
+  if (parts_.recorder) {
+    parts_.recorder->record_imu(bytes);
+    parts_.recorder->report(counters_);
+  }
   parts_.imu_decoder->decode(bytes, emit_imu_);
   parts_.imu_decoder->report(counters_);
 }

@@ -112,6 +112,8 @@ class Pipeline {
   void stop_reporting_health() { health_unwatched_.store(true, std::memory_order_release); }
   std::vector<NamedRing> rings() const;
   const PipelineCounters& counters() const { return counters_; }
+  // For the output files' writers, which count their own failures here.
+  PipelineCounters& counters() { return counters_; }
 
   // True when every running pipeline thread made progress since the previous call.
   bool threads_alive();

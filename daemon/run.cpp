@@ -70,7 +70,9 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
     return 1;
   }
   std::optional<TrajectoryFile> trajectory;
-  if (options.trajectory_out) trajectory.emplace(*options.trajectory_out);
+  if (options.trajectory_out)
+    trajectory.emplace(*options.trajectory_out, config.daemon.checkpoint_period_s,
+                       pipeline.counters().trajectory_lines_lost);
   spdlog::info("parts: lidar source {}, IMU source {}, fuser {}, registration {}, recorder {}",
                present(parts.lidar_source != nullptr), present(parts.imu_source != nullptr),
                present(parts.fuser != nullptr), present(parts.registration != nullptr),
@@ -197,8 +199,11 @@ int run_daemon(const DaemonConfig& config, const RunOptions& options, lcm::LCM& 
   publisher.stop();
   log_latency_summary(publisher, lossless);
   if (trajectory) {
-    trajectory->commit();
-    spdlog::info("trajectory written to {}", trajectory->path());
+    if (trajectory->commit()) {
+      spdlog::info("trajectory written to {}", trajectory->path());
+    } else {
+      exit_code = 1;  // the error lines say what is missing
+    }
   }
   if (scan_log) {
     scan_log->commit();

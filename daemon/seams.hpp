@@ -71,6 +71,9 @@ class LidarDecoder {
   // True when the datagram carried points, written to block (DIFOP, foreign
   // and bad datagrams return false and are counted by the decoder).
   virtual bool decode(const LidarDatagram& datagram, PointBlock& block) = 0;
+  // Whether the last datagram decoded came from the lidar (not foreign, not
+  // to another port), points or not: what a recording keeps.
+  virtual bool last_from_the_lidar() const = 0;
   // Copies the decoder's cumulative statistics (lidar_* fields, lidar clock).
   virtual void report(PipelineCounters& counters) const = 0;
 };
@@ -85,12 +88,15 @@ class ImuDecoder {
   virtual void report(PipelineCounters& counters) const = 0;
 };
 
-// Writes the raw bytes of a live run (record.dir), on the io thread.
+// Records a live run (record.dir), called on the io thread: the lidar's
+// datagrams (the decoder accepted them) and every serial read.
 class Recorder {
  public:
   virtual ~Recorder() = default;
   virtual void record_lidar(const LidarDatagram& datagram) = 0;
   virtual void record_imu(const ImuBytes& bytes) = 0;
+  // Copies its cumulative counts (record_* fields).
+  virtual void report(PipelineCounters& counters) const = 0;
   // Makes everything written so far complete on disk (called at shutdown).
   virtual void flush() = 0;
 };

@@ -42,7 +42,8 @@ PipelineParts make_sensor_parts(boost::asio::io_context& io, const DaemonConfig&
   parts.imu_source = std::make_unique<LiveImuSource>(io, config.imu, reads);
   parts.imu_decoder = std::make_unique<SerialSampleDecoder>(config.imu, reads);
   if (!config.record.dir.empty())
-    parts.recorder = std::make_unique<PcapRecorder>(config.record.dir, lidar_source_config(config.lidar));
+    parts.recorder =
+        std::make_unique<PcapRecorder>(config.record, lidar_source_config(config.lidar), config.daemon.checkpoint_period_s);
   return parts;
 }
 

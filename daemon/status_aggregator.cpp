@@ -195,6 +195,10 @@ void StatusAggregator::fill_message(std::int64_t now_steady_ns, std::int64_t uti
   out.lidar_late_packets_dropped = load(c.lidar_late_packets_dropped);
   out.scans_short_coverage = load(c.scans_short_coverage);
   out.scans_cut_at_bound = load(c.scans_cut_at_bound);
+  out.trajectory_lines_lost = load(c.trajectory_lines_lost);
+  out.record_dropped = load(c.record_dropped);
+  out.record_errors = load(c.record_errors);
+  out.record_paused = c.record_paused.load(std::memory_order_relaxed);
   out.lidar_difop_ignored = load(c.lidar_difop_ignored);
   out.imu_duplicate_frames = load(c.imu_duplicate_frames);
   out.imu_out_of_order_frames = load(c.imu_out_of_order_frames);

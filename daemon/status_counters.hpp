@@ -62,6 +62,12 @@ struct PipelineCounters {
   std::atomic<std::int64_t> lidar_late_packets_dropped{0};
   std::atomic<std::int64_t> scans_short_coverage{0};  // skipped: not a whole revolution
   std::atomic<std::int64_t> scans_cut_at_bound{0};    // skipped: cut at 1.5 revolutions without passing the split
+
+  // output files (their writer threads)
+  std::atomic<std::int64_t> trajectory_lines_lost{0};  // --trajectory-out poses not written: I/O error, disk full
+  std::atomic<std::int64_t> record_dropped{0};  // record.dir: items not recorded (queue full, paused, write failed)
+  std::atomic<std::int64_t> record_errors{0};   // record.dir: failed creates, writes, syncs
+  std::atomic<bool> record_paused{false};       // record.dir: below record.min_free_mib or after a failure
 };
 
 }  // namespace tumble::daemon

@@ -18,6 +18,8 @@ class ImuRecordingWriter {
   void write(std::int64_t arrival_ns, std::span<const std::uint8_t> read);
   void flush() { writer_.flush(); }
   void close() { writer_.close(); }
+  // The file itself: its size, errors and sync.
+  pcap::Writer& file() { return writer_; }
 
  private:
   pcap::Writer writer_;

@@ -1,6 +1,10 @@
 #include "drivers/pcap/pcap_file.hpp"
 
 #include <pcap/pcap.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
 
 namespace tumble::pcap {
 
@@ -62,6 +66,17 @@ void Writer::write(std::int64_t t_ns, std::span<const std::uint8_t> bytes) {
 void Writer::flush() {
   if (dumper_ != nullptr && pcap_dump_flush(dumper_) != 0) throw Error("cannot flush recording " + path_);
 }
+
+int Writer::sync() {
+  if (dumper_ == nullptr) return EBADF;
+  std::FILE* file = pcap_dump_file(dumper_);
+  if (std::fflush(file) != 0 || std::ferror(file) != 0) return errno != 0 ? errno : EIO;
+  return ::fdatasync(::fileno(file)) == 0 ? 0 : errno;
+}
+
+bool Writer::failed() const { return dumper_ == nullptr || std::ferror(pcap_dump_file(dumper_)) != 0; }
+
+std::int64_t Writer::bytes() const { return dumper_ == nullptr ? 0 : pcap_dump_ftell64(dumper_); }
 
 void Writer::close() {
   if (dumper_ != nullptr) {

@@ -68,6 +68,13 @@ class Writer {
   void write(std::int64_t t_ns, std::span<const std::uint8_t> bytes);
   // Pushes buffered records to the file so a crash loses at most what came after.
   void flush();
+  // Flushes and syncs to the disk (fdatasync): 0, or the errno that failed
+  // (ENOSPC: the disk is full; a write() that failed before is reported here).
+  int sync();
+  // True once a write or flush failed (the records after it may be missing).
+  bool failed() const;
+  // The file's size so far, buffered records included.
+  std::int64_t bytes() const;
   void close();
 
  private:

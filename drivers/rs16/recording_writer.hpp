@@ -27,8 +27,13 @@ class RecordingWriter {
   // One datagram that arrived at arrival_t_ns (CLOCK_REALTIME). Reuses one
   // frame buffer: no allocation per datagram once it has grown.
   void write(std::int64_t arrival_t_ns, PacketKind kind, std::span<const std::uint8_t> payload);
+  // The same, from the given sender (host byte order) instead of lidar_ip.
+  void write_from(std::uint32_t source_ip, std::int64_t arrival_t_ns, PacketKind kind,
+                  std::span<const std::uint8_t> payload);
   void flush() { writer_.flush(); }
   void close() { writer_.close(); }
+  // The file itself: its size, errors and sync.
+  pcap::Writer& file() { return writer_; }
 
  private:
   pcap::Writer writer_;

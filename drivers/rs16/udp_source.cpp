@@ -60,8 +60,9 @@ void UdpSource::open(Channel& channel, const boost::asio::ip::address_v4& addres
     channel.socket.set_option(boost::asio::socket_base::receive_buffer_size(receive_buffer));
     channel.socket.bind(endpoint);
   } catch (const boost::system::system_error& e) {
-    throw std::runtime_error("rs16: cannot receive on UDP " + address.to_string() + ":" + std::to_string(port) + ": " +
-                             e.code().message());
+    throw BindError("rs16: cannot receive on UDP " + address.to_string() + ":" + std::to_string(port) + ": " +
+                        e.code().message(),
+                    e.code().value());
   }
   // Kernel receive times: no scheduling delay in what the clock mapper sees.
   const int on = 1;

@@ -9,6 +9,7 @@
 #include <boost/asio/ip/udp.hpp>
 #include <cstdint>
 #include <functional>
+#include <stdexcept>
 #include <string>
 
 #include "drivers/rs16/lidar_datagram.hpp"
@@ -29,13 +30,25 @@ struct UdpSourceStats {
   std::uint64_t receive_errors = 0;
 };
 
+// A port could not be bound: the message names address:port and the reason,
+// error_number is the errno (EADDRINUSE, EADDRNOTAVAIL, EACCES, ...).
+class BindError : public std::runtime_error {
+ public:
+  BindError(const std::string& message, int error_number) : std::runtime_error(message), error_number_(error_number) {}
+  int error_number() const { return error_number_; }
+
+ private:
+  int error_number_;
+};
+
 class UdpSource {
  public:
   // The payload is valid only during the call: copy it (e.g. into a ring) to keep it.
   using Handler = std::function<void(const LidarDatagram&)>;
 
-  // Binds both ports; throws std::runtime_error naming address:port and the
-  // reason, std::invalid_argument when the two ports are the same.
+  // Binds both ports; throws BindError naming address:port and the reason,
+  // std::runtime_error for an address that is not IPv4, std::invalid_argument
+  // when the two ports are the same.
   UdpSource(boost::asio::io_context& io, const UdpSourceConfig& config, Handler handler);
   UdpSource(const UdpSource&) = delete;
   UdpSource& operator=(const UdpSource&) = delete;

@@ -175,6 +175,21 @@ TEST(ConfigErrors, OutOfRangeNamesKeyAndRange) {
             "imu.baud: 12345 is not one of 9600, 19200, 38400, 57600, 115200, 230400, 460800, 921600, 2000000");
 }
 
+TEST(Config, OutputFileKeysLoadAndAreRangeChecked) {
+  const DaemonConfig c = load_config(
+      "daemon:\n  checkpoint_period_s: 0.5\nrecord:\n  max_segment_mib: 64\n  max_segment_s: 30\n  min_free_mib: 0\n",
+      "test.yaml");
+  EXPECT_DOUBLE_EQ(c.daemon.checkpoint_period_s, 0.5);
+  EXPECT_EQ(c.record.max_segment_mib, 64);
+  EXPECT_DOUBLE_EQ(c.record.max_segment_s, 30.0);
+  EXPECT_EQ(c.record.min_free_mib, 0);
+  EXPECT_EQ(error_of("daemon:\n  checkpoint_period_s: 0\n"),
+            "daemon.checkpoint_period_s: 0 is out of range (0.1..60)");
+  EXPECT_EQ(error_of("record:\n  max_segment_mib: 0\n"), "record.max_segment_mib: 0 is out of range (1..1048576)");
+  EXPECT_EQ(error_of("record:\n  max_segment_s: 0.5\n"), "record.max_segment_s: 0.5 is out of range (1..86400)");
+  EXPECT_EQ(error_of("record:\n  min_free_mib: -1\n"), "record.min_free_mib: -1 is out of range (0..1048576)");
+}
+
 TEST(ConfigErrors, WrongTypeNamesKeyAndExpectedType) {
   EXPECT_EQ(error_of("lidar:\n  msop_port: abc\n"), "lidar.msop_port: expected an integer, got \"abc\"");
   EXPECT_EQ(error_of("lidar:\n  msop_port: 6699.5\n"), "lidar.msop_port: expected an integer, got \"6699.5\"");

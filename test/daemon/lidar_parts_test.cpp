@@ -64,6 +64,29 @@ TEST(Rs16LidarDecoder, IgnoresCountsAndReportsDatagramsFromAnotherSender) {
   EXPECT_EQ(text.find("2 so far"), std::string::npos) << "not rate-limited:\n" << text;
 }
 
+// What the recorder keeps: the lidar's datagrams, DIFOP included, and no other.
+TEST(Rs16LidarDecoder, SaysWhetherTheLastDatagramCameFromTheLidar) {
+  const CapturedLog log;
+  Rs16LidarDecoder decoder(LidarConfig{});  // no source_ip: the first sender of a good MSOP datagram
+  const std::array<std::uint8_t, 1248> packet = msop_packet();
+  PointBlock block;
+  const LidarDatagram lidar{1.0, rs16::parse_ipv4("10.0.0.5"), 6699, 6699, packet};
+  decoder.decode(lidar, block);
+  EXPECT_TRUE(decoder.last_from_the_lidar());
+  LidarDatagram difop = lidar;
+  difop.dst_port = 7788;
+  decoder.decode(difop, block);
+  EXPECT_TRUE(decoder.last_from_the_lidar());
+  LidarDatagram stranger = lidar;
+  stranger.src_ip = rs16::parse_ipv4("10.0.0.6");
+  decoder.decode(stranger, block);
+  EXPECT_FALSE(decoder.last_from_the_lidar());
+  LidarDatagram wrong_port = lidar;
+  wrong_port.dst_port = 5000;
+  decoder.decode(wrong_port, block);
+  EXPECT_FALSE(decoder.last_from_the_lidar());
+}
+
 TEST(Rs16LidarDecoder, WithoutASourceIpAnySenderIsTheLidar) {
   Rs16LidarDecoder decoder(LidarConfig{});
   const std::array<std::uint8_t, 1248> packet = msop_packet();

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -18,6 +19,10 @@
 #include <string>
 #include <vector>
 
+#include "daemon/lidar_parts.hpp"
+#include "daemon/pcap_recorder.hpp"
+#include "drivers/pcap/pcap_file.hpp"
+#include "drivers/rs16/pcap_source.hpp"
 #include "test/core/synthetic_room.hpp"
 #include "test/daemon/process.hpp"
 #include "test/temp_dir.hpp"
@@ -218,6 +223,57 @@ TEST_F(ReplayFaults, ARealTimeReplayThatKeepsUpGivesTheLosslessTrajectory) {
     EXPECT_EQ(contents(real_time), lossless) << "registration threads " << threads;
   }
   if (compared == 0) GTEST_SKIP() << "both real-time replays dropped data: the machine was too busy to compare";
+}
+
+// What tumbled's recorder keeps of a run with foreign datagrams on the wire
+// (those the decoder takes as the lidar's, with their sender, and every
+// serial read) replays to the trajectory the run itself gives.
+TEST_F(ReplayFaults, TheRecordersRecordingReplaysToTheSameTrajectory) {
+  const fs::path wire = inject("foreign-on-the-wire", {"--foreign-lidar", "0.05", "--seed", "5"});
+  const rs16::SourceConfig ports;
+  RecordConfig record;
+  record.dir = (wire / "recorded").string();
+  record.min_free_mib = 0;
+  PipelineCounters counters;
+  std::vector<std::string> segments;
+  {
+    PcapRecorder recorder(record, ports, 2.0);
+    Rs16LidarDecoder decoder(LidarConfig{});
+    rs16::PcapSource lidar((wire / "lidar.pcap").string(), ports);
+    PointBlock block;
+    int fed = 0;
+    const auto pace = [&fed] {  // the recorder's ring holds 4096 items: let its writer keep up
+      if (++fed % 1000 == 0) std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    };
+    int foreign = 0;
+    while (const auto d = lidar.next()) {
+      const std::uint16_t port = d->kind == rs16::PacketKind::Msop ? ports.msop_port : ports.difop_port;
+      const LidarDatagram datagram{d->arrival_s, d->source_ip, port, port, d->payload};
+      decoder.decode(datagram, block);
+      if (!decoder.last_from_the_lidar()) {
+        ++foreign;
+        continue;
+      }
+      recorder.record_lidar(datagram);
+      pace();
+    }
+    EXPECT_GT(foreign, 0) << "the fault put no foreign datagram on the wire";
+    pcap::Reader imu((wire / "imu.pcap").string());
+    while (const auto r = imu.next()) {
+      recorder.record_imu(ImuBytes{static_cast<double>(r->t_ns) * 1e-9, r->bytes});
+      pace();
+    }
+    recorder.flush();
+    recorder.report(counters);
+    segments = recorder.segments();
+  }
+  EXPECT_EQ(counters.record_dropped.load(), 0);
+  EXPECT_EQ(counters.record_errors.load(), 0);
+  ASSERT_EQ(segments.size(), 1u);
+  run_tumbled(wire, wire / "wire.tum");
+  run_tumbled(segments[0], wire / "recorded.tum");
+  ASSERT_FALSE(contents(wire / "wire.tum").empty());
+  EXPECT_EQ(contents(wire / "recorded.tum"), contents(wire / "wire.tum"));
 }
 
 }  // namespace

@@ -42,9 +42,22 @@ TEST(SystemdUnit, HasTheAgreedSettings) {
        {"Type=notify", "NotifyAccess=main", "WatchdogSec=", "Restart=on-failure", "User=tumble", "NoNewPrivileges=yes",
         "ProtectSystem=strict", "ProtectHome=yes", "PrivateTmp=yes", "DevicePolicy=closed",
         "DeviceAllow=", "ReadWritePaths=/var/lib/tumble", "RestartPreventExitStatus=2", "LimitRTPRIO=20",
-        "ExecStart=/usr/bin/tumbled --config /etc/tumble/tumbled.yaml", "MemoryHigh=512M", "MemoryMax=768M"}) {
+        "ExecStart=/usr/bin/tumbled --config /etc/tumble/tumbled.yaml", "MemoryHigh=512M", "MemoryMax=768M",
+        "SystemCallFilter=@system-service", "ProtectProc=invisible", "ProcSubset=pid", "RemoveIPC=yes",
+        "RestrictAddressFamilies=AF_UNIX AF_INET"}) {
     EXPECT_NE(unit.find(std::string("\n") + line), std::string::npos) << line;
   }
+}
+
+// The start limit is a [Unit] setting: in [Service] systemd would ignore it.
+TEST(SystemdUnit, RestartsForeverWithoutAStartLimit) {
+  const std::string unit = read_file(kSource / "systemd/tumbled.service");
+  const std::size_t service = unit.find("\n[Service]");
+  const std::size_t limit = unit.find("\nStartLimitIntervalSec=0\n");
+  ASSERT_NE(service, std::string::npos);
+  EXPECT_LT(limit, service) << "StartLimitIntervalSec=0 missing from [Unit]";
+  EXPECT_NE(unit.find("\nRestart=on-failure\n", service), std::string::npos);
+  EXPECT_NE(unit.find("\nRestartSec=5s\n", service), std::string::npos);
 }
 
 TEST(SystemdUnit, VerifiesCleanly) {
@@ -59,6 +72,19 @@ TEST(SystemdUnit, VerifiesCleanly) {
   const test::ProcessResult r = test::run_process({analyze, "verify", copy.string()});
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_EQ(r.err, "") << "systemd-analyze verify warns";  // unknown keys only warn
+}
+
+// systemd's own rating of the sandbox: 10 is none, 0 the tightest.
+TEST(SystemdUnit, SecurityExposureIsAtMostTwo) {
+  const std::string analyze = find_program("systemd-analyze");
+  if (analyze.empty()) GTEST_SKIP() << "systemd-analyze not installed (Debian package systemd)";
+  const test::ProcessResult r = test::run_process(
+      {analyze, "security", "--offline=true", "--no-pager", (kSource / "systemd/tumbled.service").string()});
+  std::smatch overall;
+  const std::string report = r.out + r.err;
+  ASSERT_TRUE(std::regex_search(report, overall, std::regex(R"(Overall exposure level for tumbled\.service: ([0-9.]+))")))
+      << report;
+  EXPECT_LE(std::stod(overall[1].str()), 2.0) << report;
 }
 
 TEST(SystemdUnit, SysusersFileCreatesTheUser) {

@@ -129,6 +129,7 @@ class FakeLidarDecoder : public LidarDecoder {
   int pointless_from_packet = kPacketsPerScan;
   bool rejects_all = false;  // every datagram foreign, DIFOP or bad: none gives points
 
+  bool last_from_the_lidar() const override { return !rejects_all; }
   bool decode(const LidarDatagram& d, PointBlock& block) override {
     if (rejects_all) return false;
     ++packets_;
