@@ -3,7 +3,8 @@
 # default simulated extreme-motion run with tumble-sim, replays it through
 # tumbled (the real RS-16 and MTi decoders, the whole pipeline, publishing on
 # LCM as configured), then scores the trajectory against the simulator's
-# ground truth and prints the time per stage. Meanwhile tumble-view shows the
+# ground truth and prints the time per stage (its plots in
+# BUILD_DIR/demo/out/plots). Meanwhile tumble-view shows the
 # run in a browser (its address is printed; TUMBLE_VIEW_LISTEN, default
 # 127.0.0.1:8076) and stays up TUMBLE_VIEW_HOLD_S (default 60) seconds after
 # it, or until Ctrl-C; TUMBLE_VIEW_HOLD_S=0 stops it with the run.
@@ -61,7 +62,7 @@ log "replaying through tumbled ${rate[*]} $*; watch it with: $build/lcmtypes/tum
   --trajectory-out "$out/trajectory.tum" --scan-log "$out/scans.csv" "$@"
 
 echo
-"$eval" score "$run/ground_truth.tum" "$out/trajectory.tum" --scan-log "$out/scans.csv"
+"$eval" score "$run/ground_truth.tum" "$out/trajectory.tum" --scan-log "$out/scans.csv" --plots "$out/plots"
 echo
 log "trajectory (TUM, for evo): $out/trajectory.tum; per-scan log: $out/scans.csv"
 if [ -n "$view_pid" ] && [ "$view_hold_s" -gt 0 ]; then

@@ -44,7 +44,7 @@ std::string draw_run_plots(const PoseSeries& ground_truth, const PoseSeries& est
     if (!out) return data.string() + ": cannot write";
   }
   const std::string style =
-      "set terminal pngcairo size 800,600 font ',11'\nset grid\nset key top left\n"
+      "set terminal pngcairo size 800,600 font ',11'\nset grid\nset key below\n"
       "set style line 1 lc rgb '#1f77b4' lw 2\nset style line 2 lc rgb '#d62728' lw 1.5\n";
   struct Plot {
     const char* name;
@@ -53,12 +53,12 @@ std::string draw_run_plots(const PoseSeries& ground_truth, const PoseSeries& est
   const Plot plots[] = {
       {"trajectory_top",
        fmt::format("set title 'From above: tumbled against ground truth'\nset xlabel 'x (m)'\nset ylabel 'y (m)'\n"
-                   "set size ratio -1\nplot '{0}' using 2:3 with lines ls 1 title 'ground truth', "
+                   "plot '{0}' using 2:3 with lines ls 1 title 'ground truth', "
                    "'{0}' using 5:6 with lines ls 2 title 'tumbled'\n",
                    data.string())},
       {"trajectory_side",
        fmt::format("set title 'From the side: tumbled against ground truth'\nset xlabel 'x (m)'\nset ylabel 'z (m)'\n"
-                   "set size ratio -1\nplot '{0}' using 2:4 with lines ls 1 title 'ground truth', "
+                   "plot '{0}' using 2:4 with lines ls 1 title 'ground truth', "
                    "'{0}' using 5:7 with lines ls 2 title 'tumbled'\n",
                    data.string())},
       {"error",

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "tools/view/lcm_source.hpp"
+#include "tools/view/lcm_url.hpp"
 #include "tools/view/listen_address.hpp"
 #include "tools/view/live_state.hpp"
 #include "tools/view/web_server.hpp"
@@ -38,7 +39,9 @@ int main(int argc, char** argv) {
   std::string web_dir = default_web_dir(argv[0]);
   std::string three_dir = "/usr/share/javascript/three";
   app.add_option("--listen", listen, "ADDRESS:PORT to serve the page on (port 0: any free one)")->capture_default_str();
-  app.add_option("--lcm-url", lcm_url, "LCM URL tumbled publishes on (its lcm.url)")->capture_default_str();
+  app.add_option("--lcm-url", lcm_url,
+                 "LCM URL tumbled publishes on (its lcm.url; a udpm URL without recv_buf_size gets 4 MB)")
+      ->capture_default_str();
   app.add_option("--channel-prefix", prefix, "tumbled's lcm.channel_prefix")->capture_default_str();
   app.add_option("--web-dir", web_dir, "the page's files")->capture_default_str();
   app.add_option("--three-dir", three_dir, "three.js (Debian's libjs-three)")->capture_default_str();
@@ -54,7 +57,7 @@ int main(int argc, char** argv) {
     tumble::view::LiveState state;
     tumble::view::WebServer server(io, {*endpoint, web_dir, three_dir, lcm_url, prefix}, state);
     state.on_pending([&server] { server.notify_pending(); });
-    tumble::view::LcmSource source(lcm_url, prefix, state);
+    tumble::view::LcmSource source(tumble::view::with_receive_buffer(lcm_url), prefix, state);
     source.start();
     boost::asio::signal_set signals(io, SIGINT, SIGTERM);
     signals.async_wait([&io](const boost::system::error_code&, int) { io.stop(); });
