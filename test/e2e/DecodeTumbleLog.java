@@ -18,7 +18,7 @@ public class DecodeTumbleLog {
         }
         Map<String, Integer> counts = new LinkedHashMap<>();
         Map<String, String> last = new LinkedHashMap<>();
-        for (String type : new String[] {"ODOM", "POSE", "STATUS", "SCAN", "MAP"}) counts.put(type, 0);
+        for (String type : new String[] {"ODOM", "POSE", "STATUS", "SCAN"}) counts.put(type, 0);
         Log log = new Log(args[0], "r");
         try {
             for (;;) {
@@ -45,11 +45,6 @@ public class DecodeTumbleLog {
                     case "SCAN": {
                         tumble.scan_t m = new tumble.scan_t(event.data);
                         fields = "utime " + m.utime + " points " + m.num_points;
-                        break;
-                    }
-                    case "MAP": {
-                        tumble.map_t m = new tumble.map_t(event.data);
-                        fields = "utime " + m.utime + " points " + m.num_points + " of " + m.map_points;
                         break;
                     }
                     default:

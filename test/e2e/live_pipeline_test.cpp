@@ -167,8 +167,7 @@ void run_live(const fs::path& dir, LiveOutcome& outcome) {
   Child tumbled({TUMBLED, "--lcm-url", kUrl, "--log-level", "info",
                  "--set", "imu.device=" + pty,
                  "--set", "lidar.bind_address=127.0.0.1", "--set", "lidar.clock=synced",
-                 "--set", "lcm.publish_scan=true", "--set", "lcm.publish_map_period_s=1",
-                 "--set", "daemon.realtime_priority=20",
+                 "--set", "lcm.publish_scan=true", "--set", "daemon.realtime_priority=20",
                  "--set", "imu.extrinsic_T_LI.translation_m=[0.02, 0, -0.08]",
                  "--trajectory-out", (dir / "live.tum").string()},
                 {"NOTIFY_SOCKET=" + systemd.path()}, dir / "tumbled");
