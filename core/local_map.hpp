@@ -140,6 +140,19 @@ class LocalMap {
   bool empty() const { return point_count_ == 0; }
   const LocalMapParams& params() const { return params_; }
 
+  // f(position_w) for the first max_per_voxel points of every voxel: the map
+  // thinned for a viewer at the cost of a walk over the voxels, not the points.
+  template <class F>
+  void for_each_voxel_sample(std::uint32_t max_per_voxel, F&& f) const {
+    const std::uint32_t per_voxel = std::min(max_per_voxel, kChunkPoints);
+    for (const auto& [key, slot] : cell_slot_) {
+      const Slot& s = slots_[slot];
+      if (s.count == 0) continue;
+      const Chunk& first = chunk(s.first_chunk);
+      for (std::uint32_t j = 0; j < std::min(s.count, per_voxel); ++j) f(first.positions[j]);
+    }
+  }
+
   // f(position_w, point) for every map point (normals as point() says).
   template <class F>
   void for_each_point(F&& f) const {

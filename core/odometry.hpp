@@ -66,6 +66,7 @@ class Odometry {
   const std::optional<ScanResult>& last_result() const { return last_result_; }
   const ImuFuser& fuser() const { return fuser_; }
   const LocalMap& map() const { return registration_.map(); }
+  const PointCloud& reading() const { return registration_.reading(); }  // the newest scan's, de-skewed, filtered
   const OdometryStats& stats() const { return stats_; }
   const OdometryParams& params() const { return params_; }
 

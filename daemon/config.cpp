@@ -168,6 +168,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("url", c.lcm.url, LcmUrl{});
     v.field("channel_prefix", c.lcm.channel_prefix, AnyText{});
     v.field("publish_scan", c.lcm.publish_scan, AnyText{});
+    v.field("publish_map_period_s", c.lcm.publish_map_period_s, Range{0.0, 3600.0});
   });
   v.section("daemon", [&] {
     auto& d = c.daemon;

@@ -145,6 +145,7 @@ struct LcmConfig {
   std::string url = "udpm://239.255.76.67:7667?ttl=0";
   std::string channel_prefix = "TUMBLE_";
   bool publish_scan = false;
+  double publish_map_period_s = 0.0;  // data time between local map messages; 0: none
   bool operator==(const LcmConfig&) const = default;
 };
 

@@ -7,6 +7,7 @@
 
 #include "core/angles.hpp"
 #include "core/registration_confidence.hpp"
+#include "daemon/viewer_messages.hpp"
 #include "tumble/scan_t.hpp"
 
 namespace tumble::daemon {
@@ -376,7 +377,8 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   out.reset_reason = reset_reason_;
   out.untrusted = result_.rejected;
   fill_record(result_, trajectory, out);
-  if (viewer_scan != nullptr) fill_viewer_scan(result_, *viewer_scan);
+  if (viewer_scan != nullptr)
+    fill_viewer_scan(registration_.reading(), result_.T_wl, result_.t_scan_start_s, result_.scan_index, *viewer_scan);
 }
 
 bool CoreRegistrationStage::predict_from_registrations(double t_start_s, double t_end_s) {
@@ -488,26 +490,8 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   for (std::size_t i = 0; i < std::size(stages_s); ++i) out.stage_ms[i] = static_cast<float>(stages_s[i] * 1e3);
 }
 
-void CoreRegistrationStage::fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const {
-  const PointCloud& reading = registration_.reading();
-  const auto n = static_cast<std::int32_t>(reading.size());
-  scan.utime = std::llround(result.t_scan_start_s * 1e6);
-  scan.scan_index = static_cast<std::int64_t>(result.scan_index);
-  scan.num_points = n;
-  scan.x_m.resize(static_cast<std::size_t>(n));
-  scan.y_m.resize(static_cast<std::size_t>(n));
-  scan.z_m.resize(static_cast<std::size_t>(n));
-  scan.sigma_s_m.resize(static_cast<std::size_t>(n));
-  scan.weight.resize(static_cast<std::size_t>(n));
-  const double largest = reading.weights.empty() ? 1.0 : *std::max_element(reading.weights.begin(), reading.weights.end());
-  for (std::size_t i = 0; i < reading.size(); ++i) {
-    const Eigen::Vector3d w = result.T_wl * reading.points[i];
-    scan.x_m[i] = static_cast<float>(w.x());
-    scan.y_m[i] = static_cast<float>(w.y());
-    scan.z_m[i] = static_cast<float>(w.z());
-    scan.sigma_s_m[i] = static_cast<float>(reading.sigma_s_m[i]);
-    scan.weight[i] = largest > 0 ? static_cast<float>(reading.weights[i] / largest) : 0.0f;
-  }
+void CoreRegistrationStage::fill_viewer_map(tumble::map_t& map) const {
+  daemon::fill_viewer_map(registration_.map(), result_.t_scan_start_s, result_.scan_index, resets_, map);
 }
 
 }  // namespace tumble::daemon

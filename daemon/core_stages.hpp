@@ -95,12 +95,12 @@ class CoreRegistrationStage : public RegistrationStage {
   TimeSpan held_scan_span() const override;
   void register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,
                           tumble::scan_t* viewer_scan) override;
+  void fill_viewer_map(tumble::map_t& map) const override;
   void discard_held_scan() override;
   void report(PipelineCounters& counters) const override;
 
  private:
   void fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out);
-  void fill_viewer_scan(const ScanResult& result, tumble::scan_t& scan) const;
   bool predict_from_registrations(double t_start_s, double t_end_s);
   void keep_track(const ScanResult& result);
   void reset_map(TrackingLoss reason);

@@ -13,14 +13,14 @@
 namespace tumble::daemon {
 
 LcmChannels LcmChannels::with_prefix(const std::string& prefix) {
-  return {prefix + "ODOM", prefix + "POSE", prefix + "STATUS", prefix + "SCAN"};
+  return {prefix + "ODOM", prefix + "POSE", prefix + "STATUS", prefix + "SCAN", prefix + "MAP"};
 }
 
 LcmPublisher::LcmPublisher(lcm::LCM& lcm, LcmChannels channels, PublisherInputs inputs,
                            std::vector<std::string> stage_names, Wakeup& wakeup)
     : lcm_(lcm),
       channel_names_{std::move(channels.odometry), std::move(channels.pose), std::move(channels.status),
-                     std::move(channels.scan)},
+                     std::move(channels.scan), std::move(channels.map)},
       inputs_(inputs),
       stage_names_(std::move(stage_names)),
       buffer_(64 * 1024),
@@ -86,13 +86,19 @@ std::size_t LcmPublisher::publish_pending() {
       ++count;
     }
   }
+  if (inputs_.maps) {
+    if (const tumble::map_t* map = inputs_.maps->take()) {
+      publish(kMap, *map);
+      ++count;
+    }
+  }
   return count;
 }
 
 bool LcmPublisher::has_pending() const {
   return (inputs_.odometry && !inputs_.odometry->empty()) ||
          (inputs_.registrations && !inputs_.registrations->empty()) || (inputs_.status && inputs_.status->has_new()) ||
-         (inputs_.scans && inputs_.scans->has_new());
+         (inputs_.scans && inputs_.scans->has_new()) || (inputs_.maps && inputs_.maps->has_new());
 }
 
 void LcmPublisher::start(int realtime_priority) {

@@ -18,6 +18,7 @@
 #include "daemon/records.hpp"
 #include "daemon/spsc_ring.hpp"
 #include "daemon/wakeup.hpp"
+#include "tumble/map_t.hpp"
 #include "tumble/odometry_t.hpp"
 #include "tumble/registration_t.hpp"
 #include "tumble/scan_t.hpp"
@@ -30,6 +31,7 @@ struct LcmChannels {
   std::string pose;      // <prefix>POSE, tumble.registration_t
   std::string status;    // <prefix>STATUS, tumble.status_t
   std::string scan;      // <prefix>SCAN, tumble.scan_t
+  std::string map;       // <prefix>MAP, tumble.map_t
   static LcmChannels with_prefix(const std::string& prefix);
 };
 
@@ -39,6 +41,7 @@ struct PublisherInputs {
   SpscRing<RegistrationRecord>* registrations = nullptr;
   Mailbox<tumble::status_t>* status = nullptr;
   Mailbox<tumble::scan_t>* scans = nullptr;
+  Mailbox<tumble::map_t>* maps = nullptr;
 };
 
 // Sees every registered scan on the publish thread (e.g. the trajectory file).
@@ -50,7 +53,7 @@ class RegistrationObserver {
 
 class LcmPublisher {
  public:
-  enum Channel : std::size_t { kOdometry, kPose, kStatus, kScan, kChannelCount };
+  enum Channel : std::size_t { kOdometry, kPose, kStatus, kScan, kMap, kChannelCount };
 
   // wakeup: what the producers of `inputs` notify after pushing.
   LcmPublisher(lcm::LCM& lcm, LcmChannels channels, PublisherInputs inputs, std::vector<std::string> stage_names,

@@ -25,6 +25,7 @@ std::size_t capacity(int configured) { return static_cast<std::size_t>(configure
 Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy, HealthClock clock)
     : policy_(policy),
       publish_scan_(config.lcm.publish_scan),
+      publish_map_period_s_(config.lcm.publish_map_period_s),
       realtime_priority_(config.daemon.realtime_priority),
       registration_nice_(config.daemon.registration_nice),
       trajectory_wait_ns_(std::llround(config.daemon.trajectory_wait_s * 1e9)),
@@ -45,7 +46,8 @@ Pipeline::Pipeline(const DaemonConfig& config, OverflowPolicy policy, HealthCloc
 Pipeline::~Pipeline() { stop(Drain::No); }
 
 PublisherInputs Pipeline::publisher_inputs() {
-  return {&odometry_, &registrations_, &status_, publish_scan_ ? &scans_ : nullptr};
+  return {&odometry_, &registrations_, &status_, publish_scan_ ? &scans_ : nullptr,
+          publish_map_period_s_ > 0 ? &maps_ : nullptr};
 }
 
 std::vector<NamedRing> Pipeline::rings() const {
@@ -498,6 +500,12 @@ void Pipeline::register_scan(std::int64_t scan_complete_steady_ns) {
     scan_reports_.push(registration_out_);
   }
   if (viewer != nullptr) scans_.publish();
+  // On data time, so a replay at any rate sends the map as often per scan.
+  if (publish_map_period_s_ > 0 && registration_out_.t_s >= next_map_t_s_) {
+    stage.fill_viewer_map(maps_.draft());
+    maps_.publish();
+    next_map_t_s_ = registration_out_.t_s + publish_map_period_s_;
+  }
   output_wakeup_.notify();
 }
 

@@ -45,6 +45,7 @@
 #include "daemon/status_counters.hpp"
 #include "daemon/trajectory_buffer.hpp"
 #include "daemon/wakeup.hpp"
+#include "tumble/map_t.hpp"
 #include "tumble/scan_t.hpp"
 #include "tumble/status_t.hpp"
 
@@ -147,6 +148,8 @@ class Pipeline {
 
   const OverflowPolicy policy_;
   const bool publish_scan_;
+  const double publish_map_period_s_;  // 0: no map for viewers
+  double next_map_t_s_ = 0.0;          // data time of the next map message (registration thread)
   const int realtime_priority_;
   const int registration_nice_;
   const std::int64_t trajectory_wait_ns_;
@@ -170,6 +173,7 @@ class Pipeline {
   TrajectoryBuffer trajectory_;
   Mailbox<tumble::status_t> status_;
   Mailbox<tumble::scan_t> scans_;
+  Mailbox<tumble::map_t> maps_;
 
   Wakeup fuser_wakeup_;
   Wakeup registration_wakeup_;

@@ -27,6 +27,7 @@
 
 namespace tumble {
 class scan_t;  // lcmtypes
+class map_t;
 }
 
 namespace tumble::daemon {
@@ -137,6 +138,8 @@ class RegistrationStage {
   // viewer_scan, when not null, receives the de-skewed filtered points in W.
   virtual void register_held_scan(std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out,
                                   tumble::scan_t* viewer_scan) = 0;
+  // The local map as it is after the newest registered scan, thinned, for viewers.
+  virtual void fill_viewer_map(tumble::map_t& map) const = 0;
   // Drops the held scan (the daemon fell too far behind to de-skew it).
   virtual void discard_held_scan() = 0;
   // Copies the stage's cumulative statistics (lidar_missing_packets from scan assembly).

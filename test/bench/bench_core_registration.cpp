@@ -9,6 +9,7 @@
 #include <ctime>
 #include <cstdlib>
 #include <new>
+#include <optional>
 #include <vector>
 
 #include "core/icp.hpp"
@@ -16,6 +17,7 @@
 #include "core/normals.hpp"
 #include "core/odometry.hpp"
 #include "core/voxel_grid.hpp"
+#include "daemon/viewer_messages.hpp"
 #include "daemon/worker_pool.hpp"
 #include "test/core/synthetic_room.hpp"
 
@@ -310,6 +312,71 @@ BENCHMARK(BM_OdometryScanGVTW)
     ->Args({-1, 2, 0})  // tumbled's default on this 2-core machine
     ->Args({-1, 1, 1})  // reading normals from the scan's lines
     ->Args({-1, 2, 1});
+
+// What tumbled adds to the registration path for viewers (lcm.publish_scan,
+// lcm.publish_map_period_s): filling the scan message from the registered
+// reading and the map message from the local map, after each scan of the
+// room circle (the registration itself not timed). Counters: the median
+// time of each fill, the points in each message, and heap allocations per
+// fill once the messages' vectors have grown (after 30 scans).
+void BM_ViewerMessages(benchmark::State& state) {
+  const CircleMotion motion;
+  OdometryParams params;
+  params.weights.model = WeightModel::GVTW;
+  daemon::WorkerPool pool(1);
+  Odometry odometry(params, seconds_now, pool);
+  std::optional<ScanResult> newest;
+  odometry.set_scan_callback([&](const ScanResult& r) { newest = r; });
+  int imu_index = 0;
+  auto feed_imu_until = [&](double t_end) {
+    while (imu_index * 0.01 <= t_end) odometry.add_imu(motion.imu(imu_index++ * 0.01));
+  };
+  feed_imu_until(motion.t_go_s);
+  double scan_start = motion.t_go_s;
+  std::uint64_t scan_index = 0;
+  Scan scan;
+  tumble::scan_t scan_message;
+  tumble::map_t map_message;
+  std::vector<double> scan_ms, map_ms;
+  scan_ms.reserve(1 << 12);
+  map_ms.reserve(1 << 12);
+  std::size_t steady_allocations = 0, steady_fills = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    scan.index = scan_index++;
+    scan.points = test::scan_room(room(), [&](double t) { return motion.pose(t); }, scan_start);
+    feed_imu_until(scan_start + 0.1);
+    odometry.add_scan(scan);
+    scan_start += 0.1;
+    state.ResumeTiming();
+    if (!newest) continue;
+    const std::size_t allocations_before = g_allocations.load();
+    const double t0 = seconds_now();
+    daemon::fill_viewer_scan(odometry.reading(), newest->T_wl, newest->t_scan_start_s, newest->scan_index,
+                             scan_message);
+    const double t1 = seconds_now();
+    daemon::fill_viewer_map(odometry.map(), newest->t_scan_start_s, newest->scan_index, 0, map_message);
+    const double t2 = seconds_now();
+    scan_ms.push_back(1e3 * (t1 - t0));
+    map_ms.push_back(1e3 * (t2 - t1));
+    if (scan_index > 30) {
+      steady_allocations += g_allocations.load() - allocations_before;
+      ++steady_fills;
+    }
+  }
+  state.counters["median_scan_fill_ms"] = median(scan_ms);
+  state.counters["max_scan_fill_ms"] = scan_ms.empty() ? 0 : *std::max_element(scan_ms.begin(), scan_ms.end());
+  state.counters["median_map_fill_ms"] = median(map_ms);
+  state.counters["max_map_fill_ms"] = map_ms.empty() ? 0 : *std::max_element(map_ms.begin(), map_ms.end());
+  state.counters["scan_points"] = scan_message.num_points;
+  state.counters["scan_message_kB"] = scan_message.getEncodedSize() / 1e3;
+  state.counters["map_points"] = static_cast<double>(odometry.map().size());
+  state.counters["map_message_points"] = map_message.num_points;
+  state.counters["map_message_kB"] = map_message.getEncodedSize() / 1e3;
+  state.counters["allocs_per_fill_steady"] =
+      steady_fills ? static_cast<double>(steady_allocations) / static_cast<double>(steady_fills) : -1.0;
+}
+BENCHMARK(BM_ViewerMessages)->Unit(benchmark::kMillisecond)->Iterations(150);
 
 }  // namespace
 }  // namespace tumble

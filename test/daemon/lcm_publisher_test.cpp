@@ -37,6 +37,7 @@ class LcmPublisherTest : public ::testing::Test {
     lcm_.subscribe("TEST_POSE", &Inbox<tumble::registration_t>::handle, &pose_inbox_);
     lcm_.subscribe("TEST_STATUS", &Inbox<tumble::status_t>::handle, &status_inbox_);
     lcm_.subscribe("TEST_SCAN", &Inbox<tumble::scan_t>::handle, &scan_inbox_);
+    lcm_.subscribe("TEST_MAP", &Inbox<tumble::map_t>::handle, &map_inbox_);
   }
 
   // Delivers everything memq queued, without waiting.
@@ -45,7 +46,7 @@ class LcmPublisherTest : public ::testing::Test {
     }
   }
 
-  PublisherInputs inputs() { return {&odometry_, &registrations_, &status_, &scans_}; }
+  PublisherInputs inputs() { return {&odometry_, &registrations_, &status_, &scans_, &maps_}; }
 
   lcm::LCM lcm_;
   Wakeup wakeup_;
@@ -53,10 +54,12 @@ class LcmPublisherTest : public ::testing::Test {
   SpscRing<RegistrationRecord> registrations_;
   Mailbox<tumble::status_t> status_;
   Mailbox<tumble::scan_t> scans_;
+  Mailbox<tumble::map_t> maps_;
   Inbox<tumble::odometry_t> odometry_inbox_;
   Inbox<tumble::registration_t> pose_inbox_;
   Inbox<tumble::status_t> status_inbox_;
   Inbox<tumble::scan_t> scan_inbox_;
+  Inbox<tumble::map_t> map_inbox_;
 };
 
 TEST(LcmChannels, PrefixNamesEveryChannel) {
@@ -65,6 +68,7 @@ TEST(LcmChannels, PrefixNamesEveryChannel) {
   EXPECT_EQ(c.pose, "ROBOT1_POSE");
   EXPECT_EQ(c.status, "ROBOT1_STATUS");
   EXPECT_EQ(c.scan, "ROBOT1_SCAN");
+  EXPECT_EQ(c.map, "ROBOT1_MAP");
 }
 
 TEST_F(LcmPublisherTest, OdometryDecodesWithItsContent) {
@@ -196,7 +200,7 @@ TEST_F(LcmPublisherTest, StatusCarriesThePeriodsLatenciesAndTheRunKeepsThemAll) 
   EXPECT_EQ(publisher.pose_latency().count(), 1u);
 }
 
-TEST_F(LcmPublisherTest, StatusAndScanDecodeWithTheirContent) {
+TEST_F(LcmPublisherTest, StatusScanAndMapDecodeWithTheirContent) {
   LcmPublisher publisher(lcm_, LcmChannels::with_prefix("TEST_"), inputs(), {}, wakeup_);
   tumble::status_t& status = status_.draft();
   status.utime = 99;
@@ -217,8 +221,18 @@ TEST_F(LcmPublisherTest, StatusAndScanDecodeWithTheirContent) {
   scan.z_m = {5, 6};
   scan.sigma_s_m = {0.1f, 0.2f};
   scan.weight = {1.0f, 0.5f};
+  scan.ring = {0, 15};
   scans_.publish();
-  EXPECT_EQ(publisher.publish_pending(), 2u);
+  tumble::map_t& map = maps_.draft();
+  map.scan_index = 5;
+  map.map_points = 40;
+  map.points_per_voxel = 4;
+  map.num_points = 1;
+  map.x_m = {7};
+  map.y_m = {8};
+  map.z_m = {9};
+  maps_.publish();
+  EXPECT_EQ(publisher.publish_pending(), 3u);
   EXPECT_EQ(publisher.publish_pending(), 0u);  // mailboxes are taken once
   deliver();
   ASSERT_EQ(status_inbox_.messages.size(), 1u);
@@ -227,7 +241,12 @@ TEST_F(LcmPublisherTest, StatusAndScanDecodeWithTheirContent) {
   ASSERT_EQ(scan_inbox_.messages.size(), 1u);
   EXPECT_EQ(scan_inbox_.messages[0].num_points, 2);
   EXPECT_EQ(scan_inbox_.messages[0].weight, (std::vector<float>{1.0f, 0.5f}));
+  EXPECT_EQ(scan_inbox_.messages[0].ring, (std::vector<std::int8_t>{0, 15}));
   EXPECT_EQ(scan_inbox_.channels[0], "TEST_SCAN");
+  ASSERT_EQ(map_inbox_.messages.size(), 1u);
+  EXPECT_EQ(map_inbox_.messages[0].map_points, 40);
+  EXPECT_EQ(map_inbox_.messages[0].z_m, (std::vector<float>{9}));
+  EXPECT_EQ(map_inbox_.channels[0], "TEST_MAP");
 }
 
 TEST_F(LcmPublisherTest, FailedPublishesAreCountedNotFatal) {

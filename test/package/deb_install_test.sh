@@ -43,6 +43,7 @@ in_root -i "$first"
 [ "$(installed_version)" = "install ok installed $version" ] || fail "status: $(installed_version)"
 for f in usr/bin/tumbled usr/bin/tumble-sim usr/bin/tumble-eval usr/bin/tumble-calib usr/bin/tumble-dump \
          usr/bin/tumble-spy usr/share/java/tumble-lcmtypes.jar usr/lib/systemd/system/tumbled.service \
+         usr/bin/tumble-view usr/share/tumble/view/index.html usr/lib/systemd/system/tumble-view.service \
          usr/lib/sysusers.d/tumble.conf usr/lib/udev/rules.d/99-tumble-mti.rules usr/lib/sysctl.d/60-tumble.conf \
          etc/tumble/tumbled.yaml \
          usr/share/doc/tumble/copyright usr/share/doc/tumble/lcm-interface.md \
@@ -67,8 +68,8 @@ echo "== systemd-analyze verify the installed unit"
 verify_root=$work/verify-root
 cp -a "$root" "$verify_root"
 cp -an /usr/lib/systemd/system/. "$verify_root/usr/lib/systemd/system/"
-analyze=$(systemd-analyze verify --root="$verify_root" /usr/lib/systemd/system/tumbled.service 2>&1) ||
-  fail "systemd-analyze verify: $analyze"
+analyze=$(systemd-analyze verify --root="$verify_root" /usr/lib/systemd/system/tumbled.service \
+  /usr/lib/systemd/system/tumble-view.service 2>&1) || fail "systemd-analyze verify: $analyze"
 [ -z "$analyze" ] || fail "systemd-analyze verify warns: $analyze"
 
 echo "== the installed tumbled --print-config"

@@ -20,6 +20,7 @@
 #include "tools/eval/integrity_report.hpp"
 #include "tools/eval/job_runner.hpp"
 #include "tools/eval/matrix_report.hpp"
+#include "tools/eval/run_plots.hpp"
 #include "tools/eval/run_score.hpp"
 #include "tools/eval/runaway.hpp"
 #include "tools/eval/scan_log.hpp"
@@ -187,6 +188,7 @@ struct ScoreOptions {
   std::string ground_truth;
   std::string trajectory;
   std::string scan_log;
+  std::string plots_dir;
   DriftOptions drift;
 };
 
@@ -195,6 +197,14 @@ int run_score(const ScoreOptions& options) {
       options.scan_log.empty() ? std::nullopt : std::optional<std::filesystem::path>(options.scan_log);
   const RunScore score = score_run(options.ground_truth, options.trajectory, scan_log, options.drift);
   std::fputs(score_markdown(score).c_str(), stdout);
+  if (options.plots_dir.empty()) return 0;
+  const std::string error =
+      draw_run_plots(read_tum(options.ground_truth), read_tum(options.trajectory), options.plots_dir);
+  if (!error.empty()) {
+    std::fprintf(stderr, "tumble-eval score --plots: %s\n", error.c_str());
+    return 1;
+  }
+  std::printf("\nPlots: %s/trajectory_top.png, trajectory_side.png, error.png\n", options.plots_dir.c_str());
   return 0;
 }
 
@@ -307,6 +317,9 @@ int main(int argc, char** argv) {
       ->required()
       ->check(CLI::ExistingFile);
   score->add_option("--scan-log", score_options.scan_log, "tumbled --scan-log file (CSV)")->check(CLI::ExistingFile);
+  score->add_option("--plots", score_options.plots_dir,
+                    "also draw the trajectory against ground truth (top, side) and the error over time as PNGs "
+                    "in this folder (gnuplot)");
   score->add_option("--segment-m", score_options.drift.segment_m, "RPE segment length (travelled distance)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

@@ -22,6 +22,7 @@
 #include "daemon/pipeline.hpp"
 #include "daemon/seams.hpp"
 #include "test/daemon/good_registration.hpp"
+#include "tumble/map_t.hpp"
 #include "tumble/scan_t.hpp"
 
 namespace tumble::daemon::fake {
@@ -251,15 +252,25 @@ class FakeRegistration : public RegistrationStage {
       viewer->z_m.assign(held_.size(), 0.0f);
       viewer->sigma_s_m.assign(held_.size(), 0.0f);
       viewer->weight.assign(held_.size(), 1.0f);
+      viewer->ring.assign(held_.size(), 0);
     }
+    registered_index_ = held_index_;
     held_.clear();
+  }
+  // One map point per registered scan so far, at the origin.
+  void fill_viewer_map(tumble::map_t& map) const override {
+    map.scan_index = registered_index_;
+    map.map_points = map.num_points = static_cast<std::int32_t>(registered_index_ + 1);
+    map.x_m.assign(static_cast<std::size_t>(map.num_points), 0.0f);
+    map.y_m = map.x_m;
+    map.z_m = map.x_m;
   }
   void discard_held_scan() override { held_.clear(); }
   void report(PipelineCounters&) const override {}
 
  private:
   std::vector<LidarPoint> current_, held_;
-  std::int64_t current_index_ = -1, held_index_ = -1;
+  std::int64_t current_index_ = -1, held_index_ = -1, registered_index_ = -1;
 };
 
 struct FakeParts {

@@ -64,6 +64,7 @@ struct ReplayResult {
   std::vector<double> newest_at_correction_s;
   std::vector<tumble::registration_t> poses;
   std::vector<tumble::scan_t> scans;
+  std::vector<tumble::map_t> maps;
 };
 
 // Replays a fake recording to its end and drains, as tumbled --replay does.
@@ -75,6 +76,8 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
   Inbox<tumble::scan_t> viewer_scans;
   lcm.subscribe("T_POSE", &Inbox<tumble::registration_t>::handle, &poses);
   lcm.subscribe("T_SCAN", &Inbox<tumble::scan_t>::handle, &viewer_scans);
+  Inbox<tumble::map_t> viewer_maps;
+  lcm.subscribe("T_MAP", &Inbox<tumble::map_t>::handle, &viewer_maps);
   ReplayResult result;
   {
     Pipeline pipeline(config, policy);
@@ -107,6 +110,7 @@ ReplayResult replay(int scans, const DaemonConfig& config, OverflowPolicy policy
   }
   result.poses = poses.messages;
   result.scans = viewer_scans.messages;
+  result.maps = viewer_maps.messages;
   return result;
 }
 
@@ -228,6 +232,16 @@ TEST(Pipeline, LcmSubscribersGetEveryPose) {
   ASSERT_FALSE(r.scans.empty());  // latest-wins: at least the newest
   EXPECT_EQ(r.scans.back().scan_index, 4);
   EXPECT_EQ(r.scans.back().num_points, fake::kPacketsPerScan * fake::kPointsPerPacket);
+  EXPECT_TRUE(r.maps.empty());  // lcm.publish_map_period_s 0: no map
+}
+
+TEST(Pipeline, TheMapForViewersGoesOutAtItsPeriodOfDataTime) {
+  DaemonConfig config = small_rings();
+  config.lcm.publish_map_period_s = 0.25;  // every third scan of the fake's 0.1 s scans
+  const ReplayResult r = replay(8, config, OverflowPolicy::Wait);
+  ASSERT_FALSE(r.maps.empty());  // latest-wins: at least the newest
+  EXPECT_EQ(r.maps.back().scan_index, 6);
+  EXPECT_EQ(r.maps.back().num_points, 7);  // the fake's map: a point per registered scan
 }
 
 TEST(Pipeline, StopNowReturnsWithDataStillFlowing) {
