@@ -16,6 +16,7 @@
 #include "tools/view/listen_address.hpp"
 #include "tools/view/live_state.hpp"
 #include "tools/view/web_server.hpp"
+#include "tumble_build_info.hpp"
 
 namespace {
 
@@ -33,6 +34,7 @@ std::string default_web_dir(const char* argv0) {
 
 int main(int argc, char** argv) {
   CLI::App app{"tumble-view: tumbled's pose, health, scan and map live in a browser (read-only on LCM)"};
+  app.set_version_flag("--version", std::string("tumble-view ") + tumble::kVersion)->trigger_on_parse();
   std::string listen = "127.0.0.1:8076";
   std::string lcm_url = "udpm://239.255.76.67:7667?ttl=0";
   std::string prefix = "TUMBLE_";
