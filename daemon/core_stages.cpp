@@ -364,7 +364,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // Registrations that agree with a wrong prediction confirm the velocity
   // that made it, and in a scene weak along one axis nothing stops them: a
   // speed no robot reaches is the runaway's one sure sign.
-  if (velocity_at(trajectory, out.t_s).norm() > params_.fuser.max_speed_m_s) {
+  if (speed_limit_applies_ && velocity_at(trajectory, out.t_s).norm() > params_.fuser.max_speed_m_s) {
     reset_map(TrackingLoss::TooFast);
     newest_pose_.reset();
     previous_pose_.reset();
@@ -434,6 +434,7 @@ void CoreRegistrationStage::reset_map(TrackingLoss reason) {
   registration_.reset_map();
   ++resets_;
   reset_reason_ = reason;
+  speed_limit_applies_ = reason != TrackingLoss::LidarSilent;
   scans_lost_in_a_row_ = 0;
   scans_to_check_ = 0;
   spin_clipped_scans_in_row_ = 0;

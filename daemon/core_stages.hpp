@@ -132,6 +132,9 @@ class CoreRegistrationStage : public RegistrationStage {
   std::int32_t spin_clipped_scans_in_row_ = 0;
   int scans_to_check_ = 0;            // after a lidar gap
   int scans_lost_in_a_row_ = 0;
+  // After a lidar silence the velocity is the IMU's dead reckoning, which
+  // the new map's registrations measure: the speed limit does not judge that map.
+  bool speed_limit_applies_ = true;
   bool registered_on_a_map_ = false;  // since then the fuser has a lidar rate for clipped axes
   std::int32_t resets_ = 0;
   TrackingLoss reset_reason_ = TrackingLoss::None;

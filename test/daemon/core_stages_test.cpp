@@ -225,6 +225,20 @@ TEST(CoreRegistrationStage, AFusedSpeedNoRobotReachesLosesTrackAndWaitsForTheNex
   EXPECT_FALSE(records[3].registered);
 }
 
+TEST(CoreRegistrationStage, TheSpeedLimitDoesNotJudgeAMapStartedAfterALidarSilence) {
+  // The IMU alone carried the velocity through the silence; the new map's
+  // registrations are what measure it.
+  const DaemonConfig config;
+  const double too_fast_m_s = config.fuser.max_speed_m_s + 0.5;
+  const std::vector<RegistrationRecord> records = take_scans(
+      {kWhole, kWhole, kWhole, kWhole}, 2, odometry_params(config), {0.0, 0.0, too_fast_m_s, too_fast_m_s});
+  ASSERT_EQ(records.size(), 4u);
+  EXPECT_EQ(records[3].reset_reason, TrackingLoss::LidarSilent);
+  EXPECT_EQ(records[3].resets, 1);
+  EXPECT_FALSE(records[3].awaiting_rest);
+  EXPECT_TRUE(records[3].registered);
+}
+
 // An IMU sample at t_s: still, or turning at 1 rad/s about z (not still).
 ImuSample imu_sample(double t_s, bool turning) {
   ImuSample sample;
