@@ -49,6 +49,7 @@ for f in usr/bin/tumbled usr/bin/tumble-sim usr/bin/tumble-eval usr/bin/tumble-c
          usr/share/doc/tumble/copyright usr/share/doc/tumble/lcm-interface.md \
          usr/share/man/man1/tumbled.1.gz usr/share/man/man1/tumble-sim.1.gz usr/share/man/man1/tumble-eval.1.gz \
          usr/share/man/man1/tumble-calib.1.gz usr/share/man/man1/tumble-dump.1.gz usr/share/man/man1/tumble-spy.1.gz \
+         usr/share/man/man1/tumble-view.1.gz usr/share/tumble/lcmtypes/map_t.lcm usr/include/tumble/map_t.hpp \
          usr/share/tumble/lcmtypes/odometry_t.lcm usr/share/tumble/lcmtypes/registration_t.lcm \
          usr/share/tumble/lcmtypes/status_t.lcm usr/share/tumble/lcmtypes/scan_t.lcm \
          usr/include/tumble/odometry_t.hpp usr/include/tumble/registration_t.hpp \
