@@ -300,9 +300,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   previous_scan_start_s_ = out.t_s;
   previous_scan_end_s_ = t_end_s;
   if (lidar_silent_s > lidar_silent_to_reset_s_ && newest_pose_) {
-    reset_map(TrackingLoss::LidarSilent);
-    newest_pose_.reset();
-    previous_pose_.reset();
+    forget_poses_and_reset_map(TrackingLoss::LidarSilent);
     out.resets = resets_;
     out.reset_reason = reset_reason_;
   } else if (lidar_gap_s > kLidarGapToCheck_s && newest_pose_) {
@@ -365,9 +363,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // that made it, and in a scene weak along one axis nothing stops them: a
   // speed no robot reaches is the runaway's one sure sign.
   if (speed_limit_applies_ && velocity_at(trajectory, out.t_s).norm() > params_.fuser.max_speed_m_s) {
-    reset_map(TrackingLoss::TooFast);
-    newest_pose_.reset();
-    previous_pose_.reset();
+    forget_poses_and_reset_map(TrackingLoss::TooFast);
     out.awaiting_rest = true;
   } else {
     keep_track(result_);
@@ -426,6 +422,14 @@ void CoreRegistrationStage::keep_track(const ScanResult& result) {
   spin_clipped_scans_in_row_ = 0;
   if (++scans_lost_in_a_row_ < kScansToReset) return;
   reset_map(result.rejected ? TrackingLoss::DisagreesWithImu : TrackingLoss::NotRegistered);
+}
+
+// The registered poses no longer predict the next scan (the IMU alone carried
+// the pose, or the velocity ran away): no prediction from them either.
+void CoreRegistrationStage::forget_poses_and_reset_map(TrackingLoss reason) {
+  reset_map(reason);
+  newest_pose_.reset();
+  previous_pose_.reset();
 }
 
 // The poses already published are kept; the next scan starts a new map at the

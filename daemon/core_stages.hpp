@@ -104,6 +104,7 @@ class CoreRegistrationStage : public RegistrationStage {
   bool predict_from_registrations(double t_start_s, double t_end_s);
   void keep_track(const ScanResult& result);
   void reset_map(TrackingLoss reason);
+  void forget_poses_and_reset_map(TrackingLoss reason);
 
   struct Pose {
     double t_s = 0.0;
