@@ -100,16 +100,7 @@ bool Odometry::process(const Scan& scan) {
 
   const double mark = now();
   if (result.registered)
-    fuser_.correct_with_registered_pose({.t_start_s = result.t_scan_start_s,
-                                         .t_end_s = result.t_scan_end_s,
-                                         .T_wl = result.T_wl,
-                                         .position_sigma_m = result.position_sigma_m,
-                                         .position_var_w_m2 = result.position_var_w_m2,
-                                         .jumped = result.jumped,
-                                         .map_start = result.map_initialised,
-                                         .expected_error_m = result.expected_error_icp_m,
-                                         .expected_rotation_error_rad = result.expected_rotation_error_icp_rad,
-                                         .unmeasured_w = result.held_translation_w});
+    fuser_.correct_with_registered_pose(scan_correction_of(result));
   result.v_w = velocity_at(result.t_scan_start_s);
   if (result.timings.measured) {
     result.timings.fuser_correction_s = now() - mark;

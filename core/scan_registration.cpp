@@ -64,6 +64,19 @@ ScanRegistration::ScanRegistration(const OdometryParams& params, Clock clock, Pa
       position_uncertainty_(params.position),
       registration_selector_(std::max(params.registration_voxel_size_m, params.voxel_size_m)) {}
 
+ScanCorrection scan_correction_of(const ScanResult& result) {
+  return {.t_start_s = result.t_scan_start_s,
+          .t_end_s = result.t_scan_end_s,
+          .T_wl = result.T_wl,
+          .position_sigma_m = result.position_sigma_m,
+          .position_var_w_m2 = result.position_var_w_m2,
+          .jumped = result.jumped,
+          .map_start = result.map_initialised,
+          .expected_error_m = result.expected_error_icp_m,
+          .expected_rotation_error_rad = result.expected_rotation_error_icp_rad,
+          .unmeasured_w = result.held_translation_w};
+}
+
 void ScanRegistration::reset_map() {
   map_ = LocalMap(params_.map, runner_);
   position_uncertainty_.reset(last_scan_start_s_);

@@ -171,6 +171,9 @@ struct ScanResult {
   StageTimings timings;
 };
 
+// What the fuser takes from a registered scan (ImuFuser::correct_with_registered_pose).
+ScanCorrection scan_correction_of(const ScanResult& result);
+
 enum class ScanOutcome {
   Registered,  // result filled (including map initialisation and failed matches)
   TooSmall,    // fewer than min_scan_points after down-sampling

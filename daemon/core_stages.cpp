@@ -154,20 +154,7 @@ void CoreFuserStage::add_correction(const RegistrationRecord& registration,
   if (!registration.registered || !fuser_.initialized()) return;
   // The registered pose's published covariance: it grows where the scan hardly constrains the pose.
   for (std::size_t k = 0; k < 3; ++k) position_var_m2_[k] = registration.covariance[k * 7];
-  const auto& q = registration.orientation_wxyz;
-  ScanCorrection scan{.t_start_s = registration.t_s,
-                      .t_end_s = registration.t_end_s,
-                      .position_sigma_m = registration.position_sigma_m,
-                      .position_var_w_m2 = Eigen::Vector3d(registration.position_var_w_m2.data()),
-                      .jumped = registration.jumped,
-                      .map_start = registration.map_initialised,
-                      .expected_error_m = registration.expected_error_icp_m,
-                      .expected_rotation_error_rad = registration.expected_rotation_error_icp_rad,
-                      .unmeasured_w = Eigen::Vector3f(registration.held_translation_w.data()).cast<double>()};
-  scan.T_wl.linear() = Eigen::Quaterniond(q[0], q[1], q[2], q[3]).normalized().toRotationMatrix();
-  scan.T_wl.translation() =
-      Eigen::Vector3d(registration.position_m[0], registration.position_m[1], registration.position_m[2]);
-  const CorrectionResult result = fuser_.correct_with_registered_pose(scan);
+  const CorrectionResult result = fuser_.correct_with_registered_pose(registration.correction);
   if (std::isnan(result.rewritten_after_s)) return;
   reanchors_corrected_ = fuser_.stats().reanchors;
   // The registration thread reads trajectory windows from what was published:
@@ -461,8 +448,7 @@ void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<cons
   out.registered = result.registered;
   out.map_initialised = result.map_initialised;
   out.converged = result.converged;
-  out.position_sigma_m = result.position_sigma_m;
-  for (int i = 0; i < 3; ++i) out.position_var_w_m2[static_cast<std::size_t>(i)] = result.position_var_w_m2[i];
+  out.correction = scan_correction_of(result);
   out.jumped = result.jumped;
   for (int i = 0; i < 3; ++i)
     out.held_translation_w[static_cast<std::size_t>(i)] = static_cast<float>(result.held_translation_w[i]);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string_view>
 
+#include "core/imu_fuser.hpp"
 #include "core/point_weights.hpp"
 #include "core/types.hpp"
 #include "drivers/rs16/decoded_packet.hpp"
@@ -91,8 +92,7 @@ struct RegistrationRecord {
   bool registered = false;       // false: the fuser's pose is reported and no correction is made
   bool map_initialised = false;  // the scan that started the map
   bool converged = false;
-  double position_sigma_m = 0.0;  // for the fuser's velocity filter
-  std::array<double, 3> position_var_w_m2{};  // ScanResult::position_var_w_m2: the scan's own, for the fuser
+  ScanCorrection correction;  // scan_correction_of(ScanResult): what the fuser takes when registered
   // ScanResult::jumped: far from the prediction, so neither good nor a velocity measurement.
   bool jumped = false;
   // Tracking was lost and the fuser has not yet found the robot at rest: not

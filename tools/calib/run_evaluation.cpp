@@ -65,10 +65,7 @@ void run_odometry(const BenchRun& run, const RunSetup& setup, const std::vector<
     const bool registered =
         registration.process(scan, trajectory, result) == ScanOutcome::Registered && result.registered;
     if (registered)
-      fuser.correct_with_registered_pose({.t_start_s = result.t_scan_start_s,
-                                          .t_end_s = result.t_scan_end_s,
-                                          .T_wl = result.T_wl,
-                                          .position_sigma_m = result.position_sigma_m});
+      fuser.correct_with_registered_pose(scan_correction_of(result));
     else
       ++out.scans_not_registered;
 
