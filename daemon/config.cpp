@@ -271,7 +271,7 @@ void check_consistency(const DaemonConfig& c) {
       fail(fmt::format("imu.rate_hz: {} is above the 400 Hz the MTi can be configured to (imu.configure: true)",
                        c.imu.rate_hz));
     // The 54-byte MTData2 frame we configure, 10 bits a byte, with the line at most half busy
-    // (mti.md: 400 Hz needs 460800 baud).
+    // (docs/sensors.md: 400 Hz needs 460800 baud).
     const int needed_baud = 2 * 10 * 54 * c.imu.rate_hz;
     if (c.imu.baud < needed_baud)
       fail(fmt::format("imu.rate_hz: {} Hz needs at least {} baud, imu.baud is {}", c.imu.rate_hz, needed_baud,

@@ -2,7 +2,7 @@
 // or a value no MTi can read, would poison every later pose through the
 // integration. Clipped values are measurements (the StatusWord flags them
 // and the fuser handles them), and a clipped axis can read beyond the
-// range (mti.md: -10.33 rad/s from a 450 deg/s gyro), so the bound is the
+// range (docs/sensors.md: -10.33 rad/s from a 450 deg/s gyro), so the bound is the
 // range with a margin, not the range itself.
 #pragma once
 

@@ -12,7 +12,7 @@ namespace tumble::daemon {
 
 namespace {
 
-// 750.75 MSOP packets of 1248 bytes a second (rs16.md, single return), with
+// 750.75 MSOP packets of 1248 bytes a second (docs/sensors.md, single return), with
 // the kernel's per-packet overhead about doubling what a buffer holds.
 constexpr double kMsopBytesPerSecond = 750.75 * 1248 * 2;
 

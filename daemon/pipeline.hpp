@@ -1,4 +1,4 @@
-// The pipeline's threads and the queues between them (architecture.md):
+// The pipeline's threads and the queues between them (docs/layout.md):
 //
 //   io            io_context: sources -> decoders -> imu ring, lidar ring
 //   fuser         imu ring + correction ring -> FuserStage -> trajectory buffer + odometry ring

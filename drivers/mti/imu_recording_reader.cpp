@@ -68,7 +68,12 @@ std::string ImuRecordingReader::problem() const {
   if (s.frames.frames == 0 && s.frames.bytes > 0) {
     add("no Xbus frame in " + std::to_string(s.frames.bytes) + " bytes: not an MTi stream");
   } else {
-    if (s.frames.cut_off > 0) add("truncated: the stream ends inside a frame");
+    // A pcap holds whole serial reads, and a recording stops between two of
+    // them wherever that falls (tumbled --record and Ctrl-C): its last frame
+    // cut off is where it stopped, as its first is where it started. A pcap
+    // cut inside a record is reported above; a raw stream cut inside a frame
+    // is a truncated file.
+    if (s.frames.cut_off > 0 && !pcap_) add("truncated: the stream ends inside a frame");
     // Stray bytes and preambles are normal (recordings start mid-frame);
     // failed checksums and impossible lengths are corruption.
     const std::uint64_t corrupt = s.frames.bad_checksum + s.frames.bad_length;

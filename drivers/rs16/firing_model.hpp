@@ -1,5 +1,6 @@
-// When each of a packet's returns was fired and at which azimuth (rs16.md "Per-point
-// time and azimuth"): 16 lasers fire 2.8 us apart, one firing sequence every 55.5 us.
+// When each of a packet's returns was fired and at which azimuth (docs/sensors.md,
+// "RS-16: per-point time and azimuth"): 16 lasers fire 2.8 us apart, one
+// firing sequence every 55.5 us.
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // Vertical angles of the 16 lasers and the polar-to-Cartesian model of
-// rs16.md: x forward, y left, z up, optical centre R off the rotation axis.
+// docs/sensors.md: x forward, y left, z up, optical centre R off the rotation axis.
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // Maps a free-running sensor clock to the host clock from packet arrival
-// times (architecture.md "Time"): arrival minus the packet's own duration is
+// times (docs/sensors.md, "Time"): arrival minus the packet's own duration is
 // the latest the first firing can have been, so the lower envelope of
 // (arrival - duration - sensor time) over time is offset + drift, and whatever
 // lies above it is transmission and scheduling jitter. Works with arrival

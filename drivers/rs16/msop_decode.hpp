@@ -1,5 +1,6 @@
 // Reads MSOP packets: the header, the raw fields, and the points with their
-// firing times (rs16.md "MSOP packet", "Per-point time and azimuth", "Geometry").
+// firing times (docs/sensors.md, "RS-16: MSOP packet", "RS-16: per-point
+// time and azimuth", "RS-16: geometry").
 #pragma once
 
 #include <cstdint>

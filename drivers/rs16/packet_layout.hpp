@@ -1,4 +1,4 @@
-// Byte layout of the RS-16's two UDP packets (see design/rs16.md). All
+// Byte layout of the RS-16's two UDP packets (docs/sensors.md). All
 // multi-byte fields are big-endian.
 #pragma once
 

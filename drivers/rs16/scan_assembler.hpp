@@ -28,7 +28,7 @@
 namespace tumble::rs16 {
 
 inline constexpr double kMaxScanRevolutions = 1.5;
-inline constexpr double kSlowestRpm = 300.0;  // the RS-16's slowest motor setting (rs16.md)
+inline constexpr double kSlowestRpm = 300.0;  // the RS-16's slowest motor setting (docs/sensors.md)
 
 struct ScanAssemblerConfig {
   double split_azimuth_deg = 0.0;  // [0, 360)

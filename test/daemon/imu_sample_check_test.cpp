@@ -31,7 +31,7 @@ ImuSample still() {
 TEST(ImuSampleCheck, AStillSampleAndAClippedOneAreMeasurements) {
   EXPECT_EQ(check_imu_sample(still(), kMti30), ImuSampleFault::None);
   ImuSample clipped = still();
-  clipped.gyro_rad_s.z() = -10.33;  // a real capture of a clipped 450 deg/s gyro (mti.md)
+  clipped.gyro_rad_s.z() = -10.33;  // a real capture of a clipped 450 deg/s gyro (docs/sensors.md)
   clipped.gyro_saturated[2] = true;
   EXPECT_EQ(check_imu_sample(clipped, kMti30), ImuSampleFault::None);
 }

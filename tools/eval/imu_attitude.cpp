@@ -12,7 +12,7 @@
 namespace tumble::eval {
 namespace {
 
-// Coordinate-system bits of an orientation XDI (mti.md): 01 = NED, whose up is −z.
+// Coordinate-system bits of an orientation XDI (docs/sensors.md): 01 = NED, whose up is −z.
 constexpr std::uint16_t kCoordinateMask = 0x000C;
 constexpr std::uint16_t kCoordinateNed = 0x0004;
 

@@ -74,7 +74,7 @@ struct ImuConfig {
   double accel_temperature_drift_m_s2 = 0.02;
   double warm_up_time_constant_s = 300.0;
   // Where the sample is really taken against its SampleTimeFine: uniform in
-  // +-half a tick of the 10 kHz clock (mti.md), the resolution of the stamp.
+  // +-half a tick of the 10 kHz clock (docs/sensors.md), the resolution of the stamp.
   bool timestamp_jitter = false;
   double timestamp_jitter_s = 50e-6;
   // Vibration of the carrier beyond its modelled motion: a cage's bars
@@ -125,7 +125,7 @@ struct ImuClock {
   double imu_time_offset_s = 0.0;
 };
 
-// StatusWord clip bits (mti.md).
+// StatusWord clip bits (docs/sensors.md).
 inline constexpr std::uint32_t kStatusAccelClipX = 1u << 8;
 inline constexpr std::uint32_t kStatusGyroClipX = 1u << 11;
 inline constexpr std::uint32_t kStatusAnyClip = 1u << 19;

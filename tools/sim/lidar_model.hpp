@@ -1,5 +1,5 @@
 // The RS-16 as a sensor: which ray each laser fires when, what it measures,
-// and the MSOP packet that carries it (single return, rs16.md). Every return
+// and the MSOP packet that carries it (single return, docs/sensors.md). Every return
 // is cast from the lidar pose at its own firing time, so motion skews the
 // scan exactly as it does on the real unit.
 #pragma once
@@ -17,7 +17,7 @@
 
 namespace tumble::sim {
 
-// Firing pattern of rs16.md, in nanoseconds (all exact on a 100 ns grid).
+// Firing pattern of docs/sensors.md, in nanoseconds (all exact on a 100 ns grid).
 inline constexpr std::int64_t kRs16LaserSpacingNs = 2'800;
 inline constexpr std::int64_t kRs16SequencePeriodNs = 55'500;
 inline constexpr std::int64_t kRs16BlockPeriodNs = 2 * kRs16SequencePeriodNs;
@@ -114,7 +114,7 @@ Beam rs16_beam(double azimuth_deg, double vertical_deg);
 // them at each block's first firing.
 std::array<std::uint16_t, 12> block_azimuths_centideg(double azimuth_at_zero_deg, double motor_deg_per_s,
                                                       std::int64_t first_firing_ns);
-// The azimuth the decoder assigns to channel c of block b (rs16.md's
+// The azimuth the decoder assigns to channel c of block b (docs/sensors.md's
 // interpolation, including its last-block and FOV-gap rules), so that the
 // simulated beam is the one the decoder will reconstruct.
 double channel_azimuth_deg(const std::array<std::uint16_t, 12>& blocks_centideg, int block, int channel, int rpm);

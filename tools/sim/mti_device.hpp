@@ -1,4 +1,4 @@
-// The MTi-30's side of the configuration handshake (mti.md, MT0101P): it reads
+// The MTi-30's side of the configuration handshake (docs/sensors.md, MT0101P): it reads
 // the host's Xbus requests with the driver's own frame reader and answers them
 // with the driver's encoders, after a reply latency, as the device does:
 // GoToConfig, ReqDID, ReqProductCode, ReqFWRev, SetOutputConfiguration (echoed),

@@ -133,6 +133,21 @@ TEST(ImuRecording, ATruncatedPcapKeepsWhatCameBeforeAndSaysSo) {
   EXPECT_NE(reader.problem().find("truncated"), std::string::npos) << reader.problem();
 }
 
+TEST(ImuRecording, APcapStoppedInsideAFrameIsWhereTheRecordingStopped) {
+  TempFile file("stopped.pcap");
+  {
+    ImuRecordingWriter writer(file.path());
+    for (int read = 0; read < 3; ++read) writer.write(1'000'000'000LL * (read + 1), frames(read, 1));
+    Bytes half = frames(3, 1);
+    half.resize(half.size() / 2);
+    writer.write(4'000'000'000LL, half);
+  }
+  ImuRecordingReader reader(file.path(), MtiStreamOptions{});
+  EXPECT_EQ(read_all(reader).size(), 3u);
+  EXPECT_EQ(reader.stats().frames.cut_off, 1u);
+  EXPECT_EQ(reader.problem(), "");
+}
+
 TEST(ImuRecording, ARawStreamCutInsideAFrameSaysSo) {
   TempFile file("cut.mtb");
   Bytes bytes = frames(0, 3);
