@@ -4,9 +4,12 @@
 // lidar decoder and its choice of sender, the MTi decoder, the fuser and the
 // registration stage with scan assembly, on the pipeline's threads) and
 // publishes on memq:// LCM. Every TUMBLE_ODOM and TUMBLE_POSE message
-// published while TUMBLE_STATUS says tracking must be finite and no farther
-// from the tracking pose before it than any motion can carry it; a thread
-// failing ends the run with exit code 1, which is a crash here too.
+// published while TUMBLE_STATUS says tracking must be finite, and each one a
+// subscriber may trust (docs/lcm-interface.md, "What a subscriber must
+// check") no farther from the trusted one before it than any motion can
+// carry it; a thread failing ends the run with exit code 1, which is a crash
+// here too. TUMBLE_FUZZ_DAEMON_VERBOSE=1 logs the run and prints what it
+// published.
 //
 // The input is a list of operations, each introduced by a selector byte
 // (selector % 8), on a data clock that starts at kStart_s:
@@ -33,7 +36,7 @@
 // Data beyond kMaxData_s is not written: longer runs only slow the fuzzer.
 //
 // At exit it prints how deep the inputs got: how many published a
-// registered scan and a tracking pose.
+// registered scan and a trusted pose while tracking.
 #include <sys/mman.h>
 #include <unistd.h>
 
@@ -295,6 +298,11 @@ class Recordings {
   std::uint32_t sample_time_fine_ = 0;
 };
 
+bool verbose() {
+  static const bool on = std::getenv("TUMBLE_FUZZ_DAEMON_VERBOSE") != nullptr;
+  return on;
+}
+
 struct Published {
   std::vector<tumble::status_t> status;
   std::vector<tumble::odometry_t> odometry;
@@ -327,34 +335,65 @@ bool all_finite(const Array& values) {
   return true;
 }
 
-// The farthest a pose can move between two tracking poses dt_s apart: the
-// fused speed limit (fuser.max_speed_m_s: beyond it the fuser declares the
-// velocity runaway) over the time between them, plus one registration's
-// correction of the IMU-propagated pose, which ICP bounds by its match
-// distance (registration.max_match_distance_m).
+// What docs/lcm-interface.md tells a subscriber to check before using a pose,
+// beyond the state: the odometry's flags, a registration's verdict.
+bool trusted(const daemon::DaemonConfig&, const tumble::odometry_t& m) {
+  return (m.flags & tumble::odometry_t::FLAG_INITIALISED) != 0 && (m.flags & tumble::odometry_t::FLAG_AWAITING_REST) == 0;
+}
+bool trusted(const daemon::DaemonConfig& config, const tumble::registration_t& m) {
+  return m.registered && m.converged && !m.jumped && !m.direction_unobserved && !m.awaiting_rest &&
+         m.expected_error_m <= config.daemon.health.max_expected_error_m;
+}
+
+// The farthest a trusted pose can be from the one before it on the same
+// local map (`resets` unchanged: across a reset the trajectory is
+// discontinuous by contract), dt_s apart: the fused speed limit
+// (fuser.max_speed_m_s: beyond it the fuser declares the velocity runaway)
+// over the time between them, plus one registration's correction of the
+// IMU-propagated pose, which ICP bounds by its match distance
+// (registration.max_match_distance_m). Republished odometry runs back in
+// time: |dt| covers it.
 double reachable_m(const daemon::DaemonConfig& config, double dt_s) {
   return config.fuser.max_speed_m_s * std::abs(dt_s) + config.registration.max_match_distance_m;
 }
 
+// Every pose published while tracking must be finite; every trusted one
+// within reach of the trusted one before it. Returns how many were trusted.
 template <class Pose>
-void check_tracking_poses(const daemon::DaemonConfig& config, const Published& published, const std::vector<Pose>& poses,
-                          const char* channel, bool (*counts)(const Pose&), std::size_t& tracking) {
+std::size_t check_tracking_poses(const daemon::DaemonConfig& config, const Published& published,
+                                 const std::vector<Pose>& poses, const char* channel) {
   const Pose* previous = nullptr;
+  std::size_t count = 0;
   for (const Pose& pose : poses) {
-    if (!counts(pose) || !published.tracking_at(pose.utime)) continue;
-    ++tracking;
+    if (!published.tracking_at(pose.utime)) continue;
     if (!all_finite(pose.position_m) || !all_finite(pose.orientation) || !all_finite(pose.velocity_m_s))
       fail(channel, pose.utime);
-    if (previous != nullptr) {
+    if (!trusted(config, pose)) continue;
+    ++count;
+    if (previous != nullptr && previous->resets == pose.resets) {
       const Eigen::Vector3d step = Eigen::Vector3d::Map(pose.position_m) - Eigen::Vector3d::Map(previous->position_m);
       if (step.norm() > reachable_m(config, (pose.utime - previous->utime) * 1e-6)) {
-        std::fprintf(stderr, "fuzz_daemon: %s: a tracking pose %.3f m from the one %.3f s before it\n", channel,
-                     step.norm(), (pose.utime - previous->utime) * 1e-6);
+        std::fprintf(stderr, "fuzz_daemon: %s: a trusted tracking pose %.3f m from the one %.3f s before it\n",
+                     channel, step.norm(), (pose.utime - previous->utime) * 1e-6);
         fail("a jump no motion can make", pose.utime);
       }
     }
     previous = &pose;
   }
+  return count;
+}
+
+void print(const Published& published) {
+  for (const auto& s : published.status)
+    std::fprintf(stderr, "status %lld %s %s\n", static_cast<long long>(s.utime), s.state_name.c_str(),
+                 s.state_reason.c_str());
+  for (const auto& p : published.poses)
+    std::fprintf(stderr,
+                 "pose %lld tracking %d p %.3f %.3f %.3f registered %d converged %d jumped %d unobserved %d "
+                 "awaiting_rest %d expected_error %.3f resets %d\n",
+                 static_cast<long long>(p.utime), published.tracking_at(p.utime), p.position_m[0], p.position_m[1],
+                 p.position_m[2], p.registered, p.converged, p.jumped, p.direction_unobserved, p.awaiting_rest,
+                 p.expected_error_m, p.resets);
 }
 
 daemon::DaemonConfig fuzz_config() {
@@ -380,15 +419,14 @@ daemon::DaemonConfig fuzz_config() {
 struct Depth {
   std::size_t inputs = 0;
   std::size_t with_registered_scan = 0;
-  std::size_t with_tracking_pose = 0;
+  std::size_t with_trusted_pose = 0;
   ~Depth() {
-    std::fprintf(stderr, "fuzz_daemon: %zu inputs, %zu with a registered scan, %zu with a pose published as tracking\n",
-                 inputs, with_registered_scan, with_tracking_pose);
+    std::fprintf(stderr, "fuzz_daemon: %zu inputs, %zu with a registered scan, %zu with a trusted pose published as tracking\n",
+                 inputs, with_registered_scan, with_trusted_pose);
   }
 };
 
 Depth depth;
-daemon::ShutdownSignals* signals = nullptr;
 int lidar_fd = -1;
 int imu_fd = -1;
 
@@ -397,8 +435,7 @@ std::string fd_path(int fd) { return "/proc/self/fd/" + std::to_string(fd); }
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
-  spdlog::set_level(spdlog::level::off);
-  signals = new daemon::ShutdownSignals();  // before any thread, as in tumbled's main
+  spdlog::set_level(verbose() ? spdlog::level::info : spdlog::level::off);
   lidar_fd = memfd_create("fuzz_daemon_lidar.pcap", 0);
   imu_fd = memfd_create("fuzz_daemon_imu.pcap", 0);
   if (lidar_fd < 0 || imu_fd < 0) {
@@ -418,29 +455,28 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   lcm.subscribe("TUMBLE_STATUS", &Published::on_status, &published);
   lcm.subscribe("TUMBLE_ODOM", &Published::on_odometry, &published);
   lcm.subscribe("TUMBLE_POSE", &Published::on_pose, &published);
+  // Blocks SIGINT and SIGTERM for the run's threads (tumbled's main does it
+  // before any thread starts); between inputs they stop the fuzzer as usual.
+  daemon::ShutdownSignals signals;
   daemon::RunOptions options;
   options.replay = daemon::ReplayFiles{fd_path(lidar_fd), fd_path(imu_fd)};
   options.rate.max = true;
-  if (daemon::run_daemon(config, options, lcm, *signals, daemon::make_sensor_parts) != 0)
+  if (daemon::run_daemon(config, options, lcm, signals, daemon::make_sensor_parts) != 0)
     fail("tumbled failed replaying the input", 0);
   while (lcm.handleTimeout(0) > 0) {
   }
 
-  std::size_t tracking = 0;
-  check_tracking_poses<tumble::odometry_t>(
-      config, published, published.odometry, "TUMBLE_ODOM", [](const tumble::odometry_t&) { return true; }, tracking);
-  check_tracking_poses<tumble::registration_t>(
-      config, published, published.poses, "TUMBLE_POSE",
-      [](const tumble::registration_t& pose) { return static_cast<bool>(pose.registered); }, tracking);
+  if (verbose()) print(published);
+  std::size_t trusted_poses = check_tracking_poses(config, published, published.odometry, "TUMBLE_ODOM");
+  trusted_poses += check_tracking_poses(config, published, published.poses, "TUMBLE_POSE");
   for (const auto& pose : published.poses)
-    if (pose.registered && published.tracking_at(pose.utime) && !all_finite(pose.covariance))
-      fail("TUMBLE_POSE covariance", pose.utime);
+    if (published.tracking_at(pose.utime) && !all_finite(pose.covariance)) fail("TUMBLE_POSE covariance", pose.utime);
   ++depth.inputs;
   for (const auto& pose : published.poses)
     if (pose.registered) {
       ++depth.with_registered_scan;
       break;
     }
-  if (tracking > 0) ++depth.with_tracking_pose;
+  if (trusted_poses > 0) ++depth.with_trusted_pose;
   return 0;
 }
