@@ -52,11 +52,13 @@ for name in "${fuzzers[@]}"; do
   out=$build/fuzz_at_scale/$name
   mkdir -p "$out/corpus" "$out/asan"
   seeds=$(seed_list "$name")
+  options=()  # the fuzzer's own flags (test/fuzz/options_NAME.txt), after the defaults they override
+  [ -f "$root/test/fuzz/options_$name.txt" ] && mapfile -t options < "$root/test/fuzz/options_$name.txt"
   start=$(date +%s)
   # -max_len: the RS-16 pcap seeds are whole captures (0.5 MB), of which the
   # fuzz target reads 48 records (62 kB); longer inputs only slow it down.
   "$build/test/fuzz/$name" -runs="$runs" -max_len=65536 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
-    -artifact_prefix="$out/" ${seeds:+-seed_inputs=$seeds} "$out/corpus" > "$out/log" 2>&1
+    -artifact_prefix="$out/" ${seeds:+-seed_inputs=$seeds} "${options[@]}" "$out/corpus" > "$out/log" 2>&1
   rc=$?
   execs=$(sed -n 's/^stat::number_of_executed_units: *//p' "$out/log" | tail -1)
   last=$(grep -E '^#[0-9]+' "$out/log" | tail -1)
