@@ -267,6 +267,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   out.resets = resets_;
   out.reset_reason = reset_reason_;
   if (trajectory.empty()) return;  // the fuser has not initialised: nothing to register with
+  const Eigen::Vector3d velocity_w_m_s = velocity_at(trajectory, out.t_s);
 
   const double t_end_s = held_.points.back().t_s;
   trajectory_.clear();
@@ -312,7 +313,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     result_.T_wl = predicted;
     result_.t_scan_start_s = out.t_s;
     result_.points_in = held_.points.size();
-    fill_record(result_, trajectory, out);
+    fill_record(result_, velocity_w_m_s, out);
   };
   // After a loss of track the fuser drops its velocity and waits for the
   // robot to rest; a new map started before then would be built on the
@@ -349,7 +350,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // Registrations that agree with a wrong prediction confirm the velocity
   // that made it, and in a scene weak along one axis nothing stops them: a
   // speed no robot reaches is the runaway's one sure sign.
-  if (speed_limit_applies_ && velocity_at(trajectory, out.t_s).norm() > params_.fuser.max_speed_m_s) {
+  if (speed_limit_applies_ && velocity_w_m_s.norm() > params_.fuser.max_speed_m_s) {
     forget_poses_and_reset_map(TrackingLoss::TooFast);
     out.awaiting_rest = true;
   } else {
@@ -359,7 +360,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   out.resets = resets_;
   out.reset_reason = reset_reason_;
   out.untrusted = result_.rejected;
-  fill_record(result_, trajectory, out);
+  fill_record(result_, velocity_w_m_s, out);
   if (viewer_scan != nullptr)
     fill_viewer_scan(registration_.reading(), result_.T_wl, result_.t_scan_start_s, result_.scan_index, *viewer_scan);
 }
@@ -431,14 +432,13 @@ void CoreRegistrationStage::reset_map(TrackingLoss reason) {
   spin_clipped_scans_in_row_ = 0;
 }
 
-void CoreRegistrationStage::fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory,
+void CoreRegistrationStage::fill_record(const ScanResult& result, const Eigen::Vector3d& velocity_w_m_s,
                                         RegistrationRecord& out) {
   const Eigen::Vector3d p = result.T_wl.translation();
   const Eigen::Quaterniond q(result.T_wl.rotation());
   out.position_m = {p.x(), p.y(), p.z()};
   out.orientation_wxyz = {q.w(), q.x(), q.y(), q.z()};
-  const Eigen::Vector3d v = velocity_at(trajectory, result.t_scan_start_s);
-  out.velocity_m_s = {v.x(), v.y(), v.z()};
+  out.velocity_m_s = {velocity_w_m_s.x(), velocity_w_m_s.y(), velocity_w_m_s.z()};
   const Matrix6d& covariance = result.covariance_published;
   for (int i = 0; i < 36; ++i) out.covariance[static_cast<std::size_t>(i)] = covariance(i / 6, i % 6);
   out.expected_error_m = static_cast<float>(result.expected_error_m);

@@ -100,7 +100,8 @@ class CoreRegistrationStage : public RegistrationStage {
   void report(PipelineCounters& counters) const override;
 
  private:
-  void fill_record(const ScanResult& result, std::span<const TrajectoryRecord> trajectory, RegistrationRecord& out);
+  // velocity_w_m_s: the fused velocity at the scan's start.
+  void fill_record(const ScanResult& result, const Eigen::Vector3d& velocity_w_m_s, RegistrationRecord& out);
   bool predict_from_registrations(double t_start_s, double t_end_s);
   void keep_track(const ScanResult& result);
   void reset_map(TrackingLoss reason);
