@@ -150,6 +150,12 @@ void ImuFuser::add_imu(const ImuSample& sample) {
   integrate(entry.state, previous.accel_w, entry.accel_w, dt);
   add_clip_noise(entry.state, entry, dt);
 
+  if (!velocity_confirmed_ && completes_still_window(sample, params_.rest_duration_s)) {
+    rests_to_check_.push_back(sample.t_s);
+    static_count_ = 0;
+    static_accel_sum_.setZero();
+    static_gyro_sum_.setZero();
+  }
   history_.push_back(entry);
   trajectory_.push_back(to_trajectory_sample(entry));
   ++stats_.samples;
@@ -193,6 +199,27 @@ void ImuFuser::reanchor(const ImuSample& sample) {
   previous_anchor_.reset();
   ++stats_.samples;
   ++stats_.reanchors;
+  velocity_confirmed_ = false;
+  static_count_ = 0;
+  rests_to_check_.clear();
+}
+
+// A still window's velocity is final once no correction can rewrite it: the
+// next correction rewrites from the middle of the interval since the newest
+// registration (header, 3), so a window before that registration is final.
+void ImuFuser::check_speeds_at_rest() {
+  if (!previous_registration_) return;
+  while (!rests_to_check_.empty() && rests_to_check_.front() < previous_registration_->t_s) {
+    const double t_s = rests_to_check_.front();
+    rests_to_check_.pop_front();
+    if (t_s <= history_.front().t_s) continue;
+    if (state_at(t_s).v_w.norm() > params_.max_speed_at_rest_m_s) {
+      ++stats_.runaways_at_rest;
+    } else {
+      velocity_confirmed_ = true;
+      rests_to_check_.clear();
+    }
+  }
 }
 
 bool ImuFuser::completes_still_window(const ImuSample& sample, double duration_s) {
@@ -205,7 +232,7 @@ bool ImuFuser::completes_still_window(const ImuSample& sample, double duration_s
     moving = moving || (sample.accel_m_s2 - mean).norm() > params_.static_accel_tolerance_m_s2;
   }
   if (moving) {
-    if (static_count_ > 0) ++stats_.static_restarts;
+    if (static_count_ > 0 && (!initialized_ || awaiting_rest_)) ++stats_.static_restarts;
     static_count_ = 0;
     static_accel_sum_.setZero();
     static_gyro_sum_.setZero();
@@ -232,6 +259,7 @@ void ImuFuser::restart_at_rest() {
   anchor_.reset();
   previous_anchor_.reset();
   newest_levelling_s_.reset();  // the accelerometer is the only tilt reference until a map is registered on
+  rests_to_check_.clear();
   ++stats_.restarts_at_rest;
 }
 
@@ -268,6 +296,7 @@ void ImuFuser::end_wait_at_rest(HistoryEntry& entry) {
   entry.state.variance.setConstant(params_.initial_velocity_sigma_m_s * params_.initial_velocity_sigma_m_s);
   entry.state.speed_unknown = {};
   awaiting_rest_ = false;
+  velocity_confirmed_ = true;
   static_count_ = 0;
   static_accel_sum_.setZero();
   static_gyro_sum_.setZero();
@@ -376,6 +405,7 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   }
   anchor_.reset();
   previous_anchor_.reset();
+  check_speeds_at_rest();
 
   const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized();
   PoseReset reset;

@@ -110,6 +110,18 @@
 //    accelerometer (the heading kept) and the gyro bias is the still mean;
 //    rests() counts up, which lets the registration start a new map.
 //
+// 10. After an IMU gap (7) the velocity is the registrations' alone, and
+//    in a scene that repeats along an axis (parked cars, pillars) a scan
+//    fits as well a car's length off and the next ones follow the velocity
+//    that put it there. So it is unconfirmed (velocity_confirmed()) until
+//    a still window of rest_duration_s, once no correction can rewrite it,
+//    finds the fused speed at or below max_speed_at_rest_m_s; above it,
+//    the velocity ran away with registrations that agreed with it, and
+//    runaways_at_rest counts up (the daemon drops the map and restarts at
+//    rest, 9). Only then: to the IMU a cruise at constant velocity looks
+//    still (a rail cart at 3.5 m/s), so a still window is no proof of rest
+//    while the IMU has measured the velocity all along.
+//
 // Bounded: the IMU history is a fixed ring (`history_capacity` samples, a few
 // seconds at up to 1 kHz) and so is the output trajectory. No allocation per
 // sample or per correction after construction.
@@ -167,6 +179,8 @@ struct ImuFuserParams {
   // Faster than the robot ever moves, falls included: a fused velocity
   // beyond it is a runaway, and the daemon restarts the fuser at the next rest.
   double max_speed_m_s = 6.0;
+  // After an IMU gap, a still window's fused speed above this: the velocity ran away (header, 10).
+  double max_speed_at_rest_m_s = 0.3;
   // A scan's position along ScanCorrection::unmeasured_w is the prediction,
   // not a measurement: the velocity measurement from it is this uncertain
   // there (per W axis, by the direction's share of it), so it neither pulls
@@ -198,6 +212,7 @@ struct ImuFuserStats {
   std::uint64_t restarts_at_rest = 0;            // restart_at_rest() calls (header, 9)
   std::uint64_t rests = 0;                       // still windows that ended a wait for rest
   std::uint64_t corrections_awaiting_rest = 0;   // rejected: the fuser was waiting for rest
+  std::uint64_t runaways_at_rest = 0;            // still windows after a gap with a fused speed beyond the limit (header, 10)
 };
 
 struct CorrectionResult {
@@ -249,6 +264,8 @@ class ImuFuser {
   // Tracking was lost: drop the velocity and wait for rest (header, 9).
   void restart_at_rest();
   bool awaiting_rest() const { return awaiting_rest_; }
+  // False from an IMU gap's re-anchoring to the next rest that finds the robot still (header, 10).
+  bool velocity_confirmed() const { return velocity_confirmed_; }
 
   bool initialized() const { return initialized_; }
   const Trajectory& trajectory() const { return trajectory_; }
@@ -301,6 +318,8 @@ class ImuFuser {
   // One sample while waiting for rest (header, 9).
   void add_imu_awaiting_rest(const ImuSample& sample, const HistoryEntry& previous);
   void end_wait_at_rest(HistoryEntry& entry);
+  // The fused speed of the still windows that no correction can rewrite any more (header, 10).
+  void check_speeds_at_rest();
   void reanchor(const ImuSample& sample);
   void initialize(const ImuSample& last_sample);
   Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
@@ -358,6 +377,10 @@ class ImuFuser {
   // Mean IMU body rate between the last two registered poses (header, 6).
   std::optional<Eigen::Vector3d> lidar_rate_i_rad_s_;
   bool awaiting_rest_ = false;
+  bool velocity_confirmed_ = true;
+  // Ends of still windows while the velocity is unconfirmed (header, 10): one
+  // per rest_duration_s at most, checked within two scans; a full ring drops the oldest.
+  RingBuffer<double> rests_to_check_{8};
   ImuFuserStats stats_;
 };
 

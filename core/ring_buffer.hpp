@@ -25,6 +25,10 @@ class RingBuffer {
     }
   }
   void pop_back() { --size_; }
+  void pop_front() {
+    head_ = (head_ + 1) % storage_.size();
+    --size_;
+  }
   void clear() { head_ = size_ = 0; }
 
   std::size_t size() const { return size_; }

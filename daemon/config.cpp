@@ -107,6 +107,7 @@ void visit_config(Visitor& v, Config& c) {
     v.field("init_static_s", f.init_static_s, Range{0.0, 60.0});
     v.field("rest_static_s", f.rest_static_s, Range{0.0, 60.0});
     v.field("max_speed_m_s", f.max_speed_m_s, Range{0.1, 1000.0});
+    v.field("max_speed_at_rest_m_s", f.max_speed_at_rest_m_s, Range{0.01, 1000.0});
     v.field("attitude_source", f.attitude_source, Choice<AttitudeSource>{kAttitudeSources});
   });
   v.section("registration", [&] {

@@ -80,6 +80,7 @@ struct FuserConfig {
   double init_static_s = 1.0;
   double rest_static_s = 0.5;
   double max_speed_m_s = 6.0;
+  double max_speed_at_rest_m_s = 0.3;
   AttitudeSource attitude_source = AttitudeSource::Madgwick;
   bool operator==(const FuserConfig&) const = default;
 };

@@ -48,7 +48,7 @@ const TrajectoryRecord& record_at(std::span<const TrajectoryRecord> trajectory, 
 // it and waits for the robot to rest (ImuFuser::restart_at_rest).
 bool restarts_at_rest(TrackingLoss reason) {
   return reason == TrackingLoss::NotRegistered || reason == TrackingLoss::DisagreesWithImu ||
-         reason == TrackingLoss::TooFast;
+         reason == TrackingLoss::TooFast || reason == TrackingLoss::MovingAtRest;
 }
 
 // Predicting from the registrations needs the newest to be this recent.
@@ -134,6 +134,8 @@ TrajectoryRecord CoreFuserStage::record_of(const TrajectorySample& sample) const
   r.imu_bridged = fuser_.stats().reanchors > reanchors_corrected_;
   r.awaiting_rest = fuser_.awaiting_rest();
   r.rests = static_cast<std::uint32_t>(fuser_.stats().rests);
+  r.velocity_unconfirmed = !fuser_.velocity_confirmed();
+  r.runaways_at_rest = static_cast<std::uint32_t>(fuser_.stats().runaways_at_rest);
   return r;
 }
 
@@ -350,12 +352,19 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // Registrations that agree with a wrong prediction confirm the velocity
   // that made it, and in a scene weak along one axis nothing stops them: a
   // speed no robot reaches is the runaway's one sure sign.
+  // The same sign, found still: the IMU says the robot rests, the registrations that it moves.
+  const std::uint32_t runaways_at_rest = trajectory.back().runaways_at_rest;
   if (speed_limit_applies_ && velocity_w_m_s.norm() > params_.fuser.max_speed_m_s) {
     forget_poses_and_reset_map(TrackingLoss::TooFast);
+    out.awaiting_rest = true;
+  } else if (runaways_at_rest > runaways_at_rest_seen_) {
+    forget_poses_and_reset_map(TrackingLoss::MovingAtRest);
     out.awaiting_rest = true;
   } else {
     keep_track(result_);
   }
+  runaways_at_rest_seen_ = runaways_at_rest;
+  out.velocity_unconfirmed = record_at(trajectory, out.t_s).velocity_unconfirmed;
   if (resets_ > out.resets && restarts_at_rest(reset_reason_)) rests_before_loss_ = trajectory.back().rests;
   out.resets = resets_;
   out.reset_reason = reset_reason_;

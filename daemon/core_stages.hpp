@@ -143,6 +143,7 @@ class CoreRegistrationStage : public RegistrationStage {
   // Set by a loss of track that restarts the fuser at rest: the fuser's rest
   // count then. No new map until the trajectory shows a later rest.
   std::optional<std::uint32_t> rests_before_loss_;
+  std::uint32_t runaways_at_rest_seen_ = 0;  // TrajectoryRecord::runaways_at_rest at the last scan
 };
 
 }  // namespace tumble::daemon

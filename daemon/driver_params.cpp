@@ -71,6 +71,7 @@ OdometryParams odometry_params(const DaemonConfig& config) {
   p.fuser.static_duration_s = config.fuser.init_static_s;
   p.fuser.rest_duration_s = config.fuser.rest_static_s;
   p.fuser.max_speed_m_s = config.fuser.max_speed_m_s;
+  p.fuser.max_speed_at_rest_m_s = config.fuser.max_speed_at_rest_m_s;
   p.fuser.madgwick.beta = config.fuser.madgwick_beta;
   p.fuser.madgwick.accel_gate_m_s2 = config.fuser.accel_gate_m_s2;
   p.fuser.accel_correction_after_s = config.fuser.accel_correction_after_s;

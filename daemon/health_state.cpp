@@ -44,6 +44,9 @@ constexpr std::string_view kJumped =
 constexpr std::string_view kAwaitingRest =
     "tracking lost: waiting for the robot to be still to start again from zero velocity";
 
+constexpr std::string_view kVelocityUnconfirmed =
+    "velocity unconfirmed since the IMU gap: the registrations alone measured it; good again once the robot rests";
+
 std::string_view reason_of(ScanVerdict verdict) {
   switch (verdict) {
     case ScanVerdict::Good:
@@ -64,6 +67,8 @@ std::string_view reason_of(ScanVerdict verdict) {
       return kJumped;
     case ScanVerdict::AwaitingRest:
       return kAwaitingRest;
+    case ScanVerdict::VelocityUnconfirmed:
+      return kVelocityUnconfirmed;
   }
   return {};
 }
@@ -128,6 +133,8 @@ HealthTransition next_health_state(HealthState current, double time_in_state_s, 
     case S::Lost:
       if (!fresh) break;
       if (in.new_map_since_lost) return {S::Initialising, "re-initialised: new local map"};
+      // Lost already (degraded for too long), and now the map is given up too: say why.
+      if (in.resets_in_period > 0 && !in.reset_reason.empty()) return {S::Lost, in.reset_reason};
       if (in.worst_scan_in_period == ScanVerdict::MapDeferred) return {S::Lost, kMapDeferred};
       if (in.worst_scan_in_period == ScanVerdict::AwaitingRest) return {S::Lost, kAwaitingRest};
       if (!in.data_dropped && in.consecutive_good_scans >= limits.good_scans_to_recover)

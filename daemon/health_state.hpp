@@ -31,7 +31,8 @@
 // degraded_to_lost_s (the first scan after a gap of lidar_silent_to_lost_s
 // starts a new local map, a reset). "Good scan":
 // registered and used (not untrusted), converged, matched ratio >= min_matched_ratio, degeneracy >= min_degeneracy,
-// not a jump from the prediction (registration.jump_sigmas), the IMU over the scan,
+// not a jump from the prediction (registration.jump_sigmas), the IMU over the scan and, since
+// an IMU gap, a rest that confirmed the velocity (fuser.max_speed_at_rest_m_s),
 // where the gyro was clipped about the lidar's spin axis past the spin's first spin_clipped_scans_to_settle scans
 // and matched ratio >= min_matched_ratio_spin_clipped, no direction unobserved
 // (core/unobserved_direction.hpp), and the expected error of the registered
@@ -57,6 +58,7 @@ enum class ScanVerdict : std::int8_t {
   ImuBridged = 6,          // registered without IMU data over the scan: its motion is the registrations' guess
   Jumped = 7,              // registered farther from the prediction than both can be wrong (registration.jump_sigmas)
   AwaitingRest = 8,        // lost: waiting for the robot to rest before a new map starts from zero velocity
+  VelocityUnconfirmed = 9, // since an IMU gap the velocity is the registrations' alone, until the robot rests
 };
 
 // Values equal tumble::status_t::STATE_*.

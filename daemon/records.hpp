@@ -46,6 +46,10 @@ struct TrajectoryRecord {
   // is unknown and the position held (ImuFuser::restart_at_rest).
   bool awaiting_rest = false;
   std::uint32_t rests = 0;  // waits for rest that ended (ImuFuserStats::rests)
+  // Since an IMU gap the velocity is the registrations' alone, until a rest
+  // confirms it (ImuFuser::velocity_confirmed).
+  bool velocity_unconfirmed = false;
+  std::uint32_t runaways_at_rest = 0;  // ImuFuserStats::runaways_at_rest
 };
 
 using tumble::WeightModel;
@@ -58,6 +62,7 @@ enum class TrackingLoss : std::uint8_t {
   LidarSilent,        // no scan for longer than daemon.health.lidar_silent_to_lost_s
   UnobservedMap,      // a direction pinned again after an unobserved spell: the map grew on unmeasured poses
   TooFast,            // the fused speed beyond fuser.max_speed_m_s: the velocity ran away
+  MovingAtRest,       // the fused speed beyond fuser.max_speed_at_rest_m_s while the IMU was still
 };
 constexpr std::string_view to_string(TrackingLoss loss) {
   switch (loss) {
@@ -73,6 +78,9 @@ constexpr std::string_view to_string(TrackingLoss loss) {
       return "a direction unobserved for a while is pinned again: the map grew on poses not measured along it";
     case TrackingLoss::TooFast:
       return "fused speed beyond fuser.max_speed_m_s: the velocity ran away with registrations that agreed with it";
+    case TrackingLoss::MovingAtRest:
+      return "moving beyond fuser.max_speed_at_rest_m_s while the IMU was still: the velocity ran away with "
+             "registrations that agreed with it";
   }
   return "unknown";
 }
@@ -126,6 +134,10 @@ struct RegistrationRecord {
   std::array<float, kMaxStages> stage_ms{};
   std::int32_t resets = 0;              // local maps given up so far (this scan started a new one when it grew)
   TrackingLoss reset_reason = TrackingLoss::None;  // of the newest reset
+  // Registered while the velocity was unconfirmed since an IMU gap
+  // (TrajectoryRecord::velocity_unconfirmed): the scan may agree with it
+  // a car's length off in a scene that repeats.
+  bool velocity_unconfirmed = false;
   bool imu_bridged = false;             // no IMU over the scan: de-skewed with a prediction from the registrations
   bool untrusted = false;               // registered, but too far from the IMU-propagated pose: not used
   // The gyro was clipped about the lidar's spin axis during the scan: that rate

@@ -11,6 +11,11 @@ ScanVerdict scan_verdict(const RegistrationRecord& r, const HealthConfig& health
   // Through an IMU gap the scan's motion and the next prediction are the
   // registrations' own: a scan that agrees with them confirms nothing.
   if (r.imu_bridged) return ScanVerdict::ImuBridged;
+  // After the gap, until a rest confirms the velocity the registrations
+  // gave the fuser: in a scene that repeats along an axis (parked cars,
+  // pillars) a scan fits as well a car's length off, and the next ones
+  // follow the velocity that put it there.
+  if (r.velocity_unconfirmed) return ScanVerdict::VelocityUnconfirmed;
   // With the gyro clipped about the spin axis the rotation there is the
   // registration's alone, and the fuser's rate for it is the registrations'
   // at constant velocity: wrong while the spin still rises, so a spell's

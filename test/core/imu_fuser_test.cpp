@@ -756,6 +756,74 @@ TEST(ImuFuser, StartsAgainFromTheRegisteredPosesAfterAnImuGap) {
   EXPECT_GE(fuser.velocity_variance().minCoeff(), bridged * bridged);
 }
 
+// Bridges an IMU gap with two registered poses at rest (samples 220 and 230)
+// and brings the IMU back at sample 240.
+void bridge_a_gap_at_rest(ImuFuser& fuser, const Truth& truth) {
+  feed(fuser, truth, 0, 200);
+  const Eigen::Isometry3d at_rest = Eigen::Isometry3d::Identity();
+  correct_scan(fuser, sample_time(220), at_rest, 0.01);
+  correct_scan(fuser, sample_time(230), at_rest, 0.01);
+  fuser.add_imu(sample_at(truth, sample_time(240)));
+}
+
+// Feeds samples n_from..n_to with a registration at the truth every 10 samples.
+void feed_registered(ImuFuser& fuser, const Truth& truth, int n_from, int n_to) {
+  for (int n = n_from; n + 9 <= n_to; n += 10) {
+    feed(fuser, truth, n, n + 9);
+    correct_scan(fuser, sample_time(n), at_pose(truth, sample_time(n)), 0.01);
+  }
+}
+
+TEST(ImuFuser, AfterAnImuGapTheVelocityIsUnconfirmedUntilARestFindsItStill) {
+  Truth truth;
+  ImuFuser fuser(ImuFuserParams{});
+  EXPECT_TRUE(fuser.velocity_confirmed());
+  bridge_a_gap_at_rest(fuser, truth);
+  ASSERT_EQ(fuser.stats().reanchors, 1u);
+  EXPECT_FALSE(fuser.velocity_confirmed());  // the registrations' guess
+  feed_registered(fuser, truth, 241, 280);   // still for 0.4 s: under fuser.rest_static_s
+  EXPECT_FALSE(fuser.velocity_confirmed());
+  feed_registered(fuser, truth, 281, 330);  // a still window, and the registrations after it
+  EXPECT_TRUE(fuser.velocity_confirmed());
+  EXPECT_EQ(fuser.stats().runaways_at_rest, 0u);
+}
+
+// The IMU still from sample 241 on while the registrations move the robot
+// at 1 m/s along x (a scene that repeats, fitted a little further each scan);
+// with or without an IMU gap before.
+ImuFuser registrations_slide_while_the_imu_is_still(bool gap_first) {
+  Truth still;
+  Truth sliding;
+  sliding.p_w = [](double t) { return Eigen::Vector3d(std::max(t - sample_time(241), 0.0), 0.0, 0.0); };
+  ImuFuser fuser(ImuFuserParams{});
+  if (gap_first) {
+    bridge_a_gap_at_rest(fuser, still);
+  } else {
+    feed(fuser, still, 0, 240);
+  }
+  for (int n = 250; n <= 450; n += 10) {
+    feed(fuser, still, n - 9, n);
+    correct_scan(fuser, sample_time(n - 5), at_pose(sliding, sample_time(n - 5)), 0.01);
+  }
+  return fuser;
+}
+
+TEST(ImuFuser, AfterAnImuGapARestThatFindsTheRobotMovingIsARunaway) {
+  const ImuFuser fuser = registrations_slide_while_the_imu_is_still(true);
+  EXPECT_GT(fuser.trajectory().back().v_w.x(), 0.5);  // the registrations' velocity
+  EXPECT_GE(fuser.stats().runaways_at_rest, 1u);
+  EXPECT_FALSE(fuser.velocity_confirmed());
+}
+
+TEST(ImuFuser, WithoutAGapAStillImuIsNoRest) {
+  // A cruise at constant velocity looks still to the IMU: its velocity,
+  // measured all along, is not judged by it.
+  const ImuFuser fuser = registrations_slide_while_the_imu_is_still(false);
+  EXPECT_GT(fuser.trajectory().back().v_w.x(), 0.5);
+  EXPECT_EQ(fuser.stats().runaways_at_rest, 0u);
+  EXPECT_TRUE(fuser.velocity_confirmed());
+}
+
 TEST(ImuFuser, ScansAlongAnAxisTheyPinWeaklyMeasureLittleOfTheVelocityThere) {
   // As AScanThatHeldATranslationDoesNotMeasureTheVelocityAlongIt, but the
   // scan's own covariance is wide along x: its position there is the prior's.

@@ -108,14 +108,16 @@ TEST(CoreRegistrationStage, SkipsScansCutAtTheBoundAndNamesThemInTheLog) {
 
 // A still trajectory over the scan, the gyro clipped about lidar axes
 // `clipped_axes` (bits) at one sample in its middle; the fuser's velocity
-// along x is `speed_m_s` (a still pose: the fuser's velocity gone wrong).
+// along x is `speed_m_s` (a still pose: the fuser's velocity gone wrong), and
+// it has found `runaways_at_rest` still windows with a speed over the limit.
 std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span, std::uint8_t clipped_axes,
-                                               double speed_m_s = 0.0) {
+                                               double speed_m_s = 0.0, std::uint32_t runaways_at_rest = 0) {
   std::vector<TrajectoryRecord> trajectory;
   for (double t = span.start_s - 0.05; t < span.end_s + 0.05; t += 0.01) {
     TrajectoryRecord r;
     r.t_s = t;
     r.v_w_m_s[0] = speed_m_s;
+    r.runaways_at_rest = runaways_at_rest;
     trajectory.push_back(r);
   }
   trajectory[trajectory.size() / 2].gyro_saturated_axes = clipped_axes;
@@ -126,11 +128,12 @@ std::vector<TrajectoryRecord> still_trajectory(RegistrationStage::TimeSpan span,
 // over it, on a still trajectory) and returns their records, with the lidar
 // silent for 1.3 s (a reset: lidar_silent_to_lost_s is 1 s) before scan
 // number `silent_before`, and the fuser's speed over scan i `speeds_m_s[i]`
-// (0 where absent).
+// and its runaways at rest so far `runaways_at_rest[i]` (0 where absent).
 std::vector<RegistrationRecord> take_scans(const std::vector<std::uint8_t>& clipped,
                                            std::size_t silent_before = std::numeric_limits<std::size_t>::max(),
                                            const OdometryParams& params = odometry_params(DaemonConfig{}),
-                                           const std::vector<double>& speeds_m_s = {}) {
+                                           const std::vector<double>& speeds_m_s = {},
+                                           const std::vector<std::uint32_t>& runaways_at_rest = {}) {
   CoreRegistrationStage stage(params, scan_assembler_config(LidarConfig{}));
   rs16::Decoder decoder;
   rs16::DecoderStats decoder_stats;
@@ -148,7 +151,8 @@ std::vector<RegistrationRecord> take_scans(const std::vector<std::uint8_t>& clip
     const std::size_t n = taken.size();
     taken.emplace_back();
     stage.register_held_scan(
-        still_trajectory(stage.held_scan_span(), clipped[n], n < speeds_m_s.size() ? speeds_m_s[n] : 0.0),
+        still_trajectory(stage.held_scan_span(), clipped[n], n < speeds_m_s.size() ? speeds_m_s[n] : 0.0,
+                         n < runaways_at_rest.size() ? runaways_at_rest[n] : 0),
         taken.back(), nullptr);
   }
   return taken;
@@ -225,6 +229,21 @@ TEST(CoreRegistrationStage, AFusedSpeedNoRobotReachesLosesTrackAndWaitsForTheNex
   EXPECT_FALSE(records[3].registered);
 }
 
+TEST(CoreRegistrationStage, AFuserFoundMovingAtRestLosesTrackAndWaitsForTheNextRest) {
+  const std::vector<RegistrationRecord> records = take_scans({kWhole, kWhole, kWhole, kWhole},
+                                                             std::numeric_limits<std::size_t>::max(),
+                                                             odometry_params(DaemonConfig{}), {}, {0, 0, 1, 1});
+  ASSERT_EQ(records.size(), 4u);
+  EXPECT_FALSE(records[1].awaiting_rest);
+  EXPECT_EQ(records[1].resets, 0);
+  EXPECT_TRUE(records[2].awaiting_rest);
+  EXPECT_EQ(records[2].resets, 1);
+  EXPECT_EQ(records[2].reset_reason, TrackingLoss::MovingAtRest);
+  // The same runaway is not a second loss.
+  EXPECT_EQ(records[3].resets, 1);
+  EXPECT_TRUE(records[3].awaiting_rest);
+}
+
 TEST(CoreRegistrationStage, TheSpeedLimitDoesNotJudgeAMapStartedAfterALidarSilence) {
   // The IMU alone carried the velocity through the silence; the new map's
   // registrations are what measure it.
@@ -280,6 +299,17 @@ TEST(CoreFuserStage, ARunawaySpeedRestartsTheFuserAtTheNextRest) {
   lost.t_s = 1.1;
   lost.resets = 1;
   lost.reset_reason = TrackingLoss::TooFast;
+  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
+  EXPECT_TRUE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
+}
+
+TEST(CoreFuserStage, ALossFoundAtRestRestartsTheFuserAtTheNextRest) {
+  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
+  feed_fuser(fuser, 0.0, 1.2, false);
+  RegistrationRecord lost;
+  lost.t_s = 1.1;
+  lost.resets = 1;
+  lost.reset_reason = TrackingLoss::MovingAtRest;
   fuser.add_correction(lost, [](const TrajectoryRecord&) {});
   EXPECT_TRUE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
 }

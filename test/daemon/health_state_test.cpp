@@ -229,6 +229,15 @@ TEST(HealthState, AResetIsLostWithItsReasonThenANewMapInitialises) {
   HealthInputs in = healthy();
   in.consecutive_good_scans = 0;
   EXPECT_EQ(next(S::Lost, in), S::Lost);
+  // Lost already (degraded too long) when the map is given up: the reset's reason is said.
+  in.resets_in_period = 1;
+  in.reset_reason = "moving beyond fuser.max_speed_at_rest_m_s while the IMU was still";
+  in.worst_scan_in_period = ScanVerdict::AwaitingRest;
+  const HealthTransition again = next_health_state(S::Lost, 1.0, in, {});
+  EXPECT_EQ(again.state, S::Lost);
+  EXPECT_EQ(again.reason, in.reset_reason);
+  in.resets_in_period = 0;
+  in.worst_scan_in_period = ScanVerdict::Good;
   in.new_map_since_lost = true;
   EXPECT_EQ(next(S::Lost, in), S::Initialising);
   in.consecutive_good_scans = 1;

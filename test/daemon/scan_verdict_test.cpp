@@ -42,6 +42,15 @@ TEST(ScanVerdict, AJumpAScanWithoutTheImuAndAWaitForRestAreNeverGood) {
   EXPECT_EQ(scan_verdict(r, health), ScanVerdict::AwaitingRest);
 }
 
+TEST(ScanVerdict, AScanAfterAnImuGapIsNotGoodUntilARestConfirmsTheVelocity) {
+  const HealthConfig health;
+  RegistrationRecord r = good_registration();
+  r.velocity_unconfirmed = true;
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::VelocityUnconfirmed);
+  r.velocity_unconfirmed = false;
+  EXPECT_EQ(scan_verdict(r, health), ScanVerdict::Good);
+}
+
 TEST(ScanVerdict, AClippedSpinIsGoodOnlyOnceSettledAndWhereTheScanMatchedMoreThanAMeasuredOneMust) {
   const HealthConfig health;
   RegistrationRecord r = good_registration();
