@@ -174,8 +174,8 @@ run_command() {
     *tcpdump*)
       if [ "$TUMBLE_IN_PRIVATE_NETWORK" = user ]; then
         # What `tcpdump -c 3` under `timeout 10` waits for: three UDP
-        # datagrams, within 10 s (the lidar's first ones wait for its ARP
-        # request to be answered, up to a second after the address is added).
+        # datagrams, within 10 s (until the address was added, nothing
+        # answered the lidar's ARP requests: its first datagrams wait).
         local udp_before eth0_before udp_now eth0_now tenths=0
         udp_before=$(udp_datagrams_received)
         eth0_before=$(eth0_rx_packets)
