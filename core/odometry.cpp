@@ -70,19 +70,6 @@ std::size_t Odometry::process_ready_scans() {
   return processed;
 }
 
-Eigen::Vector3d Odometry::velocity_at(double t_s) const {
-  const Trajectory& traj = fuser_.trajectory();
-  std::size_t lo = 0, hi = traj.size() - 1;
-  if (t_s <= traj[lo].t_s) return traj[lo].v_w;
-  if (t_s >= traj[hi].t_s) return traj[hi].v_w;
-  while (hi - lo > 1) {
-    const std::size_t mid = (lo + hi) / 2;
-    (traj[mid].t_s <= t_s ? lo : hi) = mid;
-  }
-  const double a = (t_s - traj[lo].t_s) / (traj[hi].t_s - traj[lo].t_s);
-  return (1 - a) * traj[lo].v_w + a * traj[hi].v_w;
-}
-
 bool Odometry::process(const Scan& scan) {
   ScanResult& result = result_;
   switch (registration_.process(scan, fuser_.trajectory(), result)) {
@@ -101,7 +88,7 @@ bool Odometry::process(const Scan& scan) {
   const double mark = now();
   if (result.registered)
     fuser_.correct_with_registered_pose(scan_correction_of(result));
-  result.v_w = velocity_at(result.t_scan_start_s);
+  result.v_w = fuser_.trajectory().velocity_at(result.t_scan_start_s);
   if (result.timings.measured) {
     result.timings.fuser_correction_s = now() - mark;
     result.timings.total_s += result.timings.fuser_correction_s;

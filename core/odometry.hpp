@@ -74,7 +74,6 @@ class Odometry {
   bool covered_by_imu(const Scan& scan) const;
   std::size_t process_ready_scans();
   bool process(const Scan& scan);  // false: dropped (counted)
-  Eigen::Vector3d velocity_at(double t_s) const;
   double now() const { return clock_ ? clock_() : 0.0; }
 
   OdometryParams params_;

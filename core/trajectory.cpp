@@ -95,6 +95,18 @@ Eigen::Isometry3d Trajectory::pose_at(double t_s) const {
   return pose_at(t_s, hint);
 }
 
+Eigen::Vector3d Trajectory::velocity_at(double t_s) const {
+  if (empty()) throw std::logic_error("Trajectory::velocity_at: empty trajectory");
+  if (t_s <= front().t_s) return front().v_w;
+  if (t_s >= back().t_s) return back().v_w;
+  std::size_t hint = 0;
+  const std::size_t i = locate(t_s, hint);
+  const TrajectorySample& a = ring_[i].sample;
+  const TrajectorySample& b = ring_[i + 1].sample;
+  const double u = (t_s - a.t_s) / (b.t_s - a.t_s);
+  return (1 - u) * a.v_w + u * b.v_w;
+}
+
 Eigen::Vector3d Trajectory::velocity_variance_at(double t_s) const {
   if (empty()) throw std::logic_error("Trajectory::velocity_variance_at: empty trajectory");
   if (size() == 1 || t_s <= front().t_s) return front().velocity_var_w_m2_s2;

@@ -92,6 +92,8 @@ class Trajectory {
 
   // T_WL(t). Throws std::logic_error when empty (as do all queries).
   Eigen::Isometry3d pose_at(double t_s) const;
+  // v_W(t), linear between samples (the end sample's beyond either end).
+  Eigen::Vector3d velocity_at(double t_s) const;
   // The velocity variance of the newest sample at or before t (the first's before it).
   Eigen::Vector3d velocity_variance_at(double t_s) const;
   // T_WL(t_from)⁻¹ · T_WL(t_to): the motion between two times, which is all

@@ -24,19 +24,6 @@ std::uint8_t to_bits(const std::array<bool, 3>& axes) {
 
 std::array<bool, 3> from_bits(std::uint8_t bits) { return {(bits & 1) != 0, (bits & 2) != 0, (bits & 4) != 0}; }
 
-Eigen::Vector3d velocity_at(std::span<const TrajectoryRecord> trajectory, double t_s) {
-  const auto v = [](const TrajectoryRecord& r) { return Eigen::Vector3d(r.v_w_m_s[0], r.v_w_m_s[1], r.v_w_m_s[2]); };
-  if (trajectory.empty()) return Eigen::Vector3d::Zero();
-  if (t_s <= trajectory.front().t_s) return v(trajectory.front());
-  if (t_s >= trajectory.back().t_s) return v(trajectory.back());
-  const auto after = std::upper_bound(trajectory.begin(), trajectory.end(), t_s,
-                                      [](double t, const TrajectoryRecord& r) { return t < r.t_s; });
-  const TrajectoryRecord& b = *after;
-  const TrajectoryRecord& a = *(after - 1);
-  const double f = (t_s - a.t_s) / (b.t_s - a.t_s);
-  return (1 - f) * v(a) + f * v(b);
-}
-
 // The newest record at or before t_s (the first when none is).
 const TrajectoryRecord& record_at(std::span<const TrajectoryRecord> trajectory, double t_s) {
   const auto after = std::upper_bound(trajectory.begin(), trajectory.end(), t_s,
@@ -269,11 +256,10 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   out.resets = resets_;
   out.reset_reason = reset_reason_;
   if (trajectory.empty()) return;  // the fuser has not initialised: nothing to register with
-  const Eigen::Vector3d velocity_w_m_s = velocity_at(trajectory, out.t_s);
-
   const double t_end_s = held_.points.back().t_s;
   trajectory_.clear();
   for (const TrajectoryRecord& r : trajectory) trajectory_.push_back(to_sample(r));
+  const Eigen::Vector3d velocity_w_m_s = trajectory_.velocity_at(out.t_s);
   ScanConditions conditions{.deskew = params_.deskew};
   const Trajectory* motion = &trajectory_;
   if (imu_hole_s(trajectory, out.t_s, t_end_s) > params_.fuser.max_imu_gap_s &&

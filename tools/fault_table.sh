@@ -52,7 +52,7 @@ for entry in "${faults[@]}"; do
     # tracking and degraded left out) and how many warnings named a fault.
     states=$(grep -E 'state [a-z_]+( -> [a-z_]+)?: ' "$dir/tumbled.log" |
              grep -v 'poor scan registration\|registration good again\|IMU and lidar data arriving\|first scan registered' |
-             sed -E 's/^.*state ([a-z_]+ -> )?([a-z_]+): ([^(]*) \(data time ([0-9.]+) s\)/\2: \3 at \4 s/' |
+             sed -E 's/^.*state ([a-z_]+ -> )?([a-z_]+): (.*) \(data time ([0-9.]+) s\)/\2: \3 at \4 s/' |
              paste -sd ';' | sed 's/;/; /g' || true)
     warnings=$(grep -v 'state ' "$dir/tumbled.log" | grep -c '\[warning\]' || true)
     seen="${states:-no state change}; $warnings other warnings"

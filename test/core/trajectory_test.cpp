@@ -65,6 +65,21 @@ TEST(Trajectory, ExtrapolatesWithTheEndSampleTwist) {
   }
 }
 
+TEST(Trajectory, VelocityIsLinearBetweenSamplesAndTheEndSamplesBeyond) {
+  Trajectory trajectory(16, SpeedUncertaintyParams{});
+  for (int i = 0; i <= 2; ++i) {
+    TrajectorySample s;
+    s.t_s = 0.1 * i;
+    s.v_w = Eigen::Vector3d(1.0 * i, -2.0 * i, 0.5);
+    trajectory.push_back(s);
+  }
+  EXPECT_LT((trajectory.velocity_at(0.05) - Eigen::Vector3d(0.5, -1.0, 0.5)).norm(), 1e-12);
+  EXPECT_LT((trajectory.velocity_at(0.175) - Eigen::Vector3d(1.75, -3.5, 0.5)).norm(), 1e-12);
+  EXPECT_EQ(trajectory.velocity_at(0.1), Eigen::Vector3d(1.0, -2.0, 0.5));  // at a sample: that sample's
+  EXPECT_EQ(trajectory.velocity_at(-1.0), Eigen::Vector3d(0.0, 0.0, 0.5));
+  EXPECT_EQ(trajectory.velocity_at(1.0), Eigen::Vector3d(2.0, -4.0, 0.5));
+}
+
 TEST(Trajectory, HintedLookupMatchesTheSearchFromAnyHint) {
   const ConstantTwist twist;
   const Trajectory trajectory = constant_twist_trajectory(twist, 101, 0.01);
