@@ -292,37 +292,26 @@ TEST(CoreFuserStage, ALossByUnregisteredScansRestartsTheFuserAtTheNextRest) {
   EXPECT_EQ(rested.resets, 1);
 }
 
-TEST(CoreFuserStage, ARunawaySpeedRestartsTheFuserAtTheNextRest) {
+// Whether the fuser waits for rest after the registration stage gave up its map for `reason`.
+bool waits_for_rest_after(TrackingLoss reason) {
   CoreFuserStage fuser(odometry_params(DaemonConfig{}));
   feed_fuser(fuser, 0.0, 1.2, false);
   RegistrationRecord lost;
   lost.t_s = 1.1;
   lost.resets = 1;
-  lost.reset_reason = TrackingLoss::TooFast;
+  lost.reset_reason = reason;
   fuser.add_correction(lost, [](const TrajectoryRecord&) {});
-  EXPECT_TRUE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
+  return feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest;
 }
 
-TEST(CoreFuserStage, ALossFoundAtRestRestartsTheFuserAtTheNextRest) {
-  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
-  feed_fuser(fuser, 0.0, 1.2, false);
-  RegistrationRecord lost;
-  lost.t_s = 1.1;
-  lost.resets = 1;
-  lost.reset_reason = TrackingLoss::MovingAtRest;
-  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
-  EXPECT_TRUE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
+TEST(CoreFuserStage, ARunawayRestartsTheFuserAtTheNextRest) {
+  EXPECT_TRUE(waits_for_rest_after(TrackingLoss::TooFast));
+  EXPECT_TRUE(waits_for_rest_after(TrackingLoss::MovingAtRest));
 }
 
 TEST(CoreFuserStage, ALossOfTheLidarKeepsTheVelocity) {
-  CoreFuserStage fuser(odometry_params(DaemonConfig{}));
-  feed_fuser(fuser, 0.0, 1.2, false);
-  RegistrationRecord lost;
-  lost.t_s = 1.1;
-  lost.resets = 1;
-  lost.reset_reason = TrackingLoss::LidarSilent;  // the IMU carried the pose: its velocity is not the suspect
-  fuser.add_correction(lost, [](const TrajectoryRecord&) {});
-  EXPECT_FALSE(feed_fuser(fuser, 1.21, 2.0, true).awaiting_rest);
+  // The IMU carried the pose: its velocity is not the suspect.
+  EXPECT_FALSE(waits_for_rest_after(TrackingLoss::LidarSilent));
 }
 
 }  // namespace
