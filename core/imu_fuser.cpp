@@ -152,9 +152,7 @@ void ImuFuser::add_imu(const ImuSample& sample) {
 
   if (!velocity_confirmed_ && completes_still_window(sample, params_.rest_duration_s)) {
     rests_to_check_.push_back(sample.t_s);
-    static_count_ = 0;
-    static_accel_sum_.setZero();
-    static_gyro_sum_.setZero();
+    restart_still_window();
   }
   history_.push_back(entry);
   trajectory_.push_back(to_trajectory_sample(entry));
@@ -200,7 +198,7 @@ void ImuFuser::reanchor(const ImuSample& sample) {
   ++stats_.samples;
   ++stats_.reanchors;
   velocity_confirmed_ = false;
-  static_count_ = 0;
+  restart_still_window();
   rests_to_check_.clear();
 }
 
@@ -222,6 +220,12 @@ void ImuFuser::check_speeds_at_rest() {
   }
 }
 
+void ImuFuser::restart_still_window() {
+  static_count_ = 0;
+  static_accel_sum_.setZero();
+  static_gyro_sum_.setZero();
+}
+
 bool ImuFuser::completes_still_window(const ImuSample& sample, double duration_s) {
   const double accel_norm = sample.accel_m_s2.norm();
   bool moving = sample.gyro_rad_s.norm() > params_.static_max_gyro_rad_s ||
@@ -233,9 +237,7 @@ bool ImuFuser::completes_still_window(const ImuSample& sample, double duration_s
   }
   if (moving) {
     if (static_count_ > 0 && (!initialized_ || awaiting_rest_)) ++stats_.static_restarts;
-    static_count_ = 0;
-    static_accel_sum_.setZero();
-    static_gyro_sum_.setZero();
+    restart_still_window();
     return false;
   }
   if (static_count_ == 0) static_start_s_ = sample.t_s;
@@ -252,9 +254,7 @@ void ImuFuser::accumulate_static(const ImuSample& sample) {
 void ImuFuser::restart_at_rest() {
   if (!initialized_) return;
   awaiting_rest_ = true;
-  static_count_ = 0;
-  static_accel_sum_.setZero();
-  static_gyro_sum_.setZero();
+  restart_still_window();
   previous_registration_.reset();
   anchor_.reset();
   previous_anchor_.reset();
@@ -297,9 +297,7 @@ void ImuFuser::end_wait_at_rest(HistoryEntry& entry) {
   entry.state.speed_unknown = {};
   awaiting_rest_ = false;
   velocity_confirmed_ = true;
-  static_count_ = 0;
-  static_accel_sum_.setZero();
-  static_gyro_sum_.setZero();
+  restart_still_window();
   ++stats_.rests;
 }
 

@@ -314,6 +314,7 @@ class ImuFuser {
   // Whether the sample completes a still window of `duration_s` (a moving
   // sample restarts it).
   bool completes_still_window(const ImuSample& sample, double duration_s);
+  void restart_still_window();
   void accumulate_static(const ImuSample& sample);
   // One sample while waiting for rest (header, 9).
   void add_imu_awaiting_rest(const ImuSample& sample, const HistoryEntry& previous);

@@ -260,6 +260,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   trajectory_.clear();
   for (const TrajectoryRecord& r : trajectory) trajectory_.push_back(to_sample(r));
   const Eigen::Vector3d velocity_w_m_s = trajectory_.velocity_at(out.t_s);
+  const TrajectoryRecord& at_start = record_at(trajectory, out.t_s);
   ScanConditions conditions{.deskew = params_.deskew};
   const Trajectory* motion = &trajectory_;
   if (imu_hole_s(trajectory, out.t_s, t_end_s) > params_.fuser.max_imu_gap_s &&
@@ -307,7 +308,6 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
   // robot to rest; a new map started before then would be built on the
   // velocity that misled the last one.
   if (rests_before_loss_) {
-    const TrajectoryRecord& at_start = record_at(trajectory, out.t_s);
     if (at_start.awaiting_rest || at_start.rests <= *rests_before_loss_) {
       report_unregistered();
       out.awaiting_rest = true;
@@ -350,7 +350,7 @@ void CoreRegistrationStage::register_held_scan(std::span<const TrajectoryRecord>
     keep_track(result_);
   }
   runaways_at_rest_seen_ = runaways_at_rest;
-  out.velocity_unconfirmed = record_at(trajectory, out.t_s).velocity_unconfirmed;
+  out.velocity_unconfirmed = at_start.velocity_unconfirmed;
   if (resets_ > out.resets && restarts_at_rest(reset_reason_)) rests_before_loss_ = trajectory.back().rests;
   out.resets = resets_;
   out.reset_reason = reset_reason_;

@@ -212,6 +212,16 @@ TEST(CoreRegistrationStage, CountsAClippedSpinsScansInARowAndStartsAgainAfterALi
   EXPECT_EQ(in_row, (std::vector<std::int32_t>{0, 1, 2, 1, 2, 0, 1}));
 }
 
+// Of four scans, the second kept its map and the third lost it for `reason`
+// and waits for the robot to rest.
+void expect_third_scan_lost_awaiting_rest(const std::vector<RegistrationRecord>& records, TrackingLoss reason) {
+  EXPECT_FALSE(records[1].awaiting_rest);
+  EXPECT_EQ(records[1].resets, 0);
+  EXPECT_TRUE(records[2].awaiting_rest);
+  EXPECT_EQ(records[2].resets, 1);
+  EXPECT_EQ(records[2].reset_reason, reason);
+}
+
 TEST(CoreRegistrationStage, AFusedSpeedNoRobotReachesLosesTrackAndWaitsForTheNextRest) {
   const DaemonConfig config;
   const double too_fast_m_s = config.fuser.max_speed_m_s + 0.5;
@@ -219,11 +229,7 @@ TEST(CoreRegistrationStage, AFusedSpeedNoRobotReachesLosesTrackAndWaitsForTheNex
       take_scans({kWhole, kWhole, kWhole, kWhole}, std::numeric_limits<std::size_t>::max(), odometry_params(config),
                  {0.0, config.fuser.max_speed_m_s - 0.5, too_fast_m_s, 0.0});
   ASSERT_EQ(records.size(), 4u);
-  EXPECT_FALSE(records[1].awaiting_rest);
-  EXPECT_EQ(records[1].resets, 0);
-  EXPECT_TRUE(records[2].awaiting_rest);
-  EXPECT_EQ(records[2].resets, 1);
-  EXPECT_EQ(records[2].reset_reason, TrackingLoss::TooFast);
+  expect_third_scan_lost_awaiting_rest(records, TrackingLoss::TooFast);
   // No rest has come since (the trajectory's rest count stays 0): no new map.
   EXPECT_TRUE(records[3].awaiting_rest);
   EXPECT_FALSE(records[3].registered);
@@ -234,11 +240,7 @@ TEST(CoreRegistrationStage, AFuserFoundMovingAtRestLosesTrackAndWaitsForTheNextR
                                                              std::numeric_limits<std::size_t>::max(),
                                                              odometry_params(DaemonConfig{}), {}, {0, 0, 1, 1});
   ASSERT_EQ(records.size(), 4u);
-  EXPECT_FALSE(records[1].awaiting_rest);
-  EXPECT_EQ(records[1].resets, 0);
-  EXPECT_TRUE(records[2].awaiting_rest);
-  EXPECT_EQ(records[2].resets, 1);
-  EXPECT_EQ(records[2].reset_reason, TrackingLoss::MovingAtRest);
+  expect_third_scan_lost_awaiting_rest(records, TrackingLoss::MovingAtRest);
   // The same runaway is not a second loss.
   EXPECT_EQ(records[3].resets, 1);
   EXPECT_TRUE(records[3].awaiting_rest);
