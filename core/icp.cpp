@@ -55,6 +55,60 @@ Eigen::Matrix3d rotation_exp(const Eigen::Vector3d& w) {
   return Eigen::AngleAxisd(angle, w / angle).toRotationMatrix();
 }
 
+// s²·H⁻¹ (H's numerically zero eigenvalues floored at kPseudoInverseCutoff),
+// back from (t, L·ω) to (t, ω): the covariance of ω is that of L·ω over L².
+Matrix6d covariance_of(const Eigen::SelfAdjointEigenSolver<Matrix6d>& eigen, double residual_variance,
+                       double length_scale) {
+  const Vector6d lambda = eigen.eigenvalues();
+  const double cutoff = lambda(5) * kPseudoInverseCutoff;
+  Matrix6d H_inv = Matrix6d::Zero();
+  for (int e = 0; e < 6; ++e) {
+    const Vector6d v = eigen.eigenvectors().col(e);
+    const double l = std::max(lambda(e), cutoff);
+    H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
+  }
+  const double inv_l = 1.0 / length_scale;
+  Vector6d unscale;
+  unscale << 1, 1, 1, inv_l, inv_l, inv_l;
+  return residual_variance * unscale.asDiagonal() * H_inv * unscale.asDiagonal();
+}
+
+// The Gauss-Newton step in the scaled coordinates. The prior (in the normal
+// matrix's units: it holds the covariance s²·H⁻¹; none without a residual
+// variance, too few matches to weigh it against) pulls the translation back
+// to the prediction, `from_prediction_w` away; a weakest direction that is
+// mostly a translation and below `hold_share` of the weights is held, and
+// `held_translation_w` says which (zero: none).
+Vector6d gauss_newton_step(const NormalEquations& system, const Eigen::SelfAdjointEigenSolver<Matrix6d>& eigen,
+                           const Eigen::Matrix3d& prior_information_w, const Eigen::Vector3d& from_prediction_w,
+                           double hold_share, Eigen::Vector3d& held_translation_w) {
+  const bool prior_now = !prior_information_w.isZero() && system.residual_variance > 0;
+  Matrix6d H_step = system.H;
+  Vector6d g_step = system.g;
+  if (prior_now) {
+    H_step.topLeftCorner<3, 3>() += system.residual_variance * prior_information_w;
+    g_step.head<3>() += system.residual_variance * prior_information_w * from_prediction_w;
+  }
+  const Vector6d lambda = eigen.eigenvalues();
+  const Vector6d weakest = eigen.eigenvectors().col(0);
+  const bool hold = lambda(0) < hold_share * system.weight_sum && mostly_translation(weakest);
+  held_translation_w = hold ? Eigen::Vector3d(weakest.head<3>().normalized()) : Eigen::Vector3d::Zero();
+  return hold        ? step_holding_translation(H_step, g_step, held_translation_w)
+         : prior_now ? minimum_norm_step(Eigen::SelfAdjointEigenSolver<Matrix6d>(H_step), g_step)
+                     : minimum_norm_step(eigen, system.g);
+}
+
+// How well the last system pins each direction (Degeneracy).
+void describe_degeneracy(const Eigen::SelfAdjointEigenSolver<Matrix6d>& eigen, const NormalEquations& system,
+                         double degeneracy_ratio, Degeneracy& d) {
+  const Vector6d lambda = eigen.eigenvalues();
+  d.min_eigenvalue = std::max(lambda(0), 0.0) / system.weight_sum;
+  d.residual_variance_per_weight = system.residual_variance / system.weight_sum;
+  d.direction = eigen.eigenvectors().col(0);
+  d.condition_number = lambda(0) > 0 ? lambda(5) / lambda(0) : std::numeric_limits<double>::infinity();
+  d.degenerate = !(lambda(0) >= degeneracy_ratio * lambda(5));
+}
+
 void check_params(const IcpParams& p) {
   auto fail = [](const std::string& what) { throw std::invalid_argument("IcpParams: " + what); };
   if (!(p.max_match_distance_m > 0)) fail("max_match_distance_m must be > 0");
@@ -214,167 +268,55 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   Eigen::Matrix3d R = initial_T_wl.rotation();
   Eigen::Vector3d t = initial_T_wl.translation();
   recent_rotation_rad_.clear();
+  recent_translation_m_.clear();
   // Normals can only agree up to the estimate's own rotation error, which is
   // unknown until it has converged: the normal test starts then, and the
   // iterations go on until the estimate converges with it.
   const bool use_normal_test = params_.max_normal_angle_deg < 90.0;
   const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * std::numbers::pi / 180.0);
   bool normal_test_on = false;
-  recent_translation_m_.clear();
   // A prior that is not finite (a covariance gone wrong upstream) is no prior.
   const bool has_prior = prior_information_w.allFinite() && !prior_information_w.isZero();
-
-  const std::size_t n = reading.size();
-  const std::size_t k = static_cast<std::size_t>(params_.match_k);
-  kept_.resize(n * (k + kExtraKept));
-  point_matches_.resize(n * k);
-  point_match_count_.resize(n);
-  kept_count_.resize(n);
-  clear_radius_m_.resize(n);
-  searched_at_.resize(n);
-  ranges_m_.resize(n);
-  for (std::size_t i = 0; i < n; ++i) ranges_m_[i] = reading.points[i].norm();
-  for (WorkerScratch& scratch : workers_) scratch.searches = 0;
+  prepare(reading);
 
   Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
-  double weight_sum = 0;
-  double residual_variance = 0;  // s² of the last system
-  double length_scale = 1;
+  NormalEquations system;  // the last one built
   bool have_system = false;
   double clock_mark = now();
 
   for (int iteration = 0; iteration < params_.max_iterations; ++iteration) {
-    const double min_normal_cos = normal_test_on ? normal_test_cos : 0.0;
-    // How far the current pose moves a point of range r from where it was at
-    // each earlier iteration's pose: at most trans + rot · r.
-    const auto it_index = static_cast<std::size_t>(iteration);
-    search_poses_[it_index] = SearchPose{R, t};
-    for (std::size_t j = 0; j < it_index; ++j) {
-      pose_change_rot_rad_[j] = Eigen::AngleAxisd(R * search_poses_[j].R.transpose()).angle();
-      pose_change_trans_m_[j] = (t - search_poses_[j].t).norm();
-    }
-    // Data association, the points spread over the runner's threads: each
-    // writes its own match slots, gathered below in reading order.
-    const MatchContext context{R, t, iteration, min_normal_cos};
-    runner_->run(n, [&](std::size_t worker, std::size_t begin, std::size_t end) {
-      for (std::size_t i = begin; i < end; ++i)
-        point_match_count_[i] =
-            static_cast<std::uint8_t>(match_point(i, reading, map, context, workers_[worker], &point_matches_[i * k]));
-    });
-    matches_.clear();
-    for (std::size_t i = 0; i < n; ++i)
-      matches_.insert(matches_.end(), point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k),
-                      point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k + point_match_count_[i]));
-    result.matches_considered = matches_.size();
-    result.matched_ratio = static_cast<double>(std::count_if(point_match_count_.begin(), point_match_count_.begin() + static_cast<std::ptrdiff_t>(n),
-                                                             [](std::uint8_t c) { return c > 0; })) /
-                           static_cast<double>(n);
+    remember_search_pose(iteration, R, t);
+    associate(reading, map, MatchContext{R, t, iteration, normal_test_on ? normal_test_cos : 0.0}, result);
     if (matches_.size() < 6) {
       const double t_end = now();
       result.matching_s += t_end - clock_mark;
       break;
     }
-
-    // Outlier rejection (FRMSD) on the chosen distance.
-    distances_sq_.resize(matches_.size());
-    for (std::size_t m = 0; m < matches_.size(); ++m) distances_sq_[m] = matches_[m].distance_sq;
-    const FrmsdTrim trim =
-        frmsd_trim(distances_sq_, params_.frmsd_r_min, params_.frmsd_r_max, params_.frmsd_lambda, scratch_);
-    double max_weight = 0;
-    double range_sq_sum = 0;
-    std::size_t kept = 0;
-    for (const Match& m : matches_) {
-      if (m.distance_sq > trim.threshold_sq) continue;
-      max_weight = std::max(max_weight, m.weight);
-      range_sq_sum += (m.p_w - t).squaredNorm();
-      ++kept;
-    }
+    const KeptMatches kept = trim_matches(t);
     {
       const double t_matched = now();
       result.matching_s += t_matched - clock_mark;
       clock_mark = t_matched;
     }
-    if (kept < 6) break;
-    length_scale = std::max(std::sqrt(range_sq_sum / static_cast<double>(kept)), 1e-3);
+    if (kept.count < 6) break;
 
-    // Gauss-Newton system in the scaled coordinates (t, L·ω): J = [n, (p − t) × n / L].
-    Matrix6d H = Matrix6d::Zero();
-    Vector6d g = Vector6d::Zero();
-    double weighted_sq_sum = 0;
-    weight_sum = 0;
-    const double inv_l = 1.0 / length_scale;
-    for (const Match& m : matches_) {
-      if (m.distance_sq > trim.threshold_sq) continue;
-      const double w = m.weight / max_weight;
-      const double r = m.normal_w.dot(m.p_w - m.q_w);
-      Vector6d J;
-      J.head<3>() = m.normal_w;
-      J.tail<3>() = (m.p_w - t).cross(m.normal_w) * inv_l;
-      H.noalias() += w * J * J.transpose();
-      g.noalias() += w * r * J;
-      weighted_sq_sum += w * r * r;
-      weight_sum += w;
-    }
-    result.matches_kept = kept;
-    result.inlier_ratio = static_cast<double>(kept) / static_cast<double>(matches_.size());
-    result.residual_rms_m = std::sqrt(weighted_sq_sum / weight_sum);
-    const double dof = static_cast<double>(kept) - 6.0;
-    residual_variance = dof > 0 ? weighted_sq_sum / dof : 0.0;
-
-    eigen.compute(H);
-    const Vector6d lambda = eigen.eigenvalues();
-    const double cutoff = lambda(5) * kPseudoInverseCutoff;
-    Matrix6d H_inv = Matrix6d::Zero();
-    for (int e = 0; e < 6; ++e) {
-      const Vector6d v = eigen.eigenvectors().col(e);
-      const double l = std::max(lambda(e), cutoff);
-      H_inv += v * v.transpose() / (l > 0 ? l : std::numeric_limits<double>::min());
-    }
-    // The prior in the normal matrix's units: it holds the covariance s²·H⁻¹
-    // (none without a residual variance: too few matches to weigh it against).
-    const bool prior_now = has_prior && residual_variance > 0;
-    Matrix6d H_step = H;
-    Vector6d g_step = g;
-    if (prior_now) {
-      H_step.topLeftCorner<3, 3>() += residual_variance * prior_information_w;
-      g_step.head<3>() += residual_variance * prior_information_w * (t - initial_T_wl.translation());
-    }
-    const Vector6d weakest = eigen.eigenvectors().col(0);
-    const bool hold = lambda(0) < params_.hold_weak_translation_share * weight_sum && mostly_translation(weakest);
-    result.held_translation_w = hold ? Eigen::Vector3d(weakest.head<3>().normalized()) : Eigen::Vector3d::Zero();
+    system = normal_equations(kept, t, result);
+    eigen.compute(system.H);
     const Vector6d step_scaled =
-        hold        ? step_holding_translation(H_step, g_step, result.held_translation_w)
-        : prior_now ? minimum_norm_step(Eigen::SelfAdjointEigenSolver<Matrix6d>(H_step), g_step)
-                    : minimum_norm_step(eigen, g);
+        gauss_newton_step(system, eigen, has_prior ? prior_information_w : Eigen::Matrix3d::Zero(),
+                          t - initial_T_wl.translation(), params_.hold_weak_translation_share,
+                          result.held_translation_w);
     have_system = true;
-    // Back to (t, ω): the covariance of ω is that of L·ω divided by L².
-    Vector6d unscale;
-    unscale << 1, 1, 1, inv_l, inv_l, inv_l;
-    result.covariance = residual_variance * unscale.asDiagonal() * H_inv * unscale.asDiagonal();
+    result.covariance = covariance_of(eigen, system.residual_variance, system.length_scale);
 
+    // Back to (t, ω): the step in L·ω divided by L.
+    const double inv_l = 1.0 / system.length_scale;
     const Eigen::Vector3d d_t = step_scaled.head<3>();
     const Eigen::Vector3d d_w = step_scaled.tail<3>() * inv_l;
     R = rotation_exp(d_w) * R;
     t += d_t;
     result.iterations = iteration + 1;
-
-    const double rot = d_w.norm(), trans = d_t.norm();
-    bool converged;
-    if (params_.convergence == ConvergenceCriterion::kIncrementBelow) {
-      converged = rot < params_.increment_rotation_rad && trans < params_.increment_translation_m;
-    } else {
-      recent_rotation_rad_.push_back(rot);
-      recent_translation_m_.push_back(trans);
-      const std::size_t w = static_cast<std::size_t>(params_.averaged_window);
-      converged = false;
-      if (recent_rotation_rad_.size() >= w) {
-        const double mean_rot =
-            std::accumulate(recent_rotation_rad_.end() - static_cast<std::ptrdiff_t>(w), recent_rotation_rad_.end(), 0.0) / w;
-        const double mean_trans =
-            std::accumulate(recent_translation_m_.end() - static_cast<std::ptrdiff_t>(w), recent_translation_m_.end(), 0.0) / w;
-        converged = mean_rot < params_.averaged_rotation_rad && mean_trans < params_.averaged_translation_m;
-      }
-    }
+    const bool converged = converged_after(d_w.norm(), d_t.norm());
     {
       const double t_solved = now();
       result.solve_s += t_solved - clock_mark;
@@ -395,20 +337,118 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   q.normalize();
   result.T_wl.linear() = q.toRotationMatrix();
   result.T_wl.translation() = t;
-
-  Degeneracy& d = result.degeneracy;
-  d.length_scale_m = length_scale;
-  if (have_system && weight_sum > 0) {
-    const Vector6d lambda = eigen.eigenvalues();
-    d.min_eigenvalue = std::max(lambda(0), 0.0) / weight_sum;
-    d.residual_variance_per_weight = residual_variance / weight_sum;
-    d.direction = eigen.eigenvectors().col(0);
-    d.condition_number = lambda(0) > 0 ? lambda(5) / lambda(0) : std::numeric_limits<double>::infinity();
-    d.degenerate = !(lambda(0) >= params_.degeneracy_ratio * lambda(5));
+  result.degeneracy.length_scale_m = system.length_scale;
+  if (have_system && system.weight_sum > 0) {
+    describe_degeneracy(eigen, system, params_.degeneracy_ratio, result.degeneracy);
   } else {
     result.covariance = Matrix6d::Identity() * std::numeric_limits<double>::infinity();
   }
   return result;
+}
+
+void Icp::prepare(const PointCloud& reading) {
+  const std::size_t n = reading.size();
+  const std::size_t k = static_cast<std::size_t>(params_.match_k);
+  kept_.resize(n * (k + kExtraKept));
+  point_matches_.resize(n * k);
+  point_match_count_.resize(n);
+  kept_count_.resize(n);
+  clear_radius_m_.resize(n);
+  searched_at_.resize(n);
+  ranges_m_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ranges_m_[i] = reading.points[i].norm();
+  for (WorkerScratch& scratch : workers_) scratch.searches = 0;
+}
+
+// How far the current pose moves a point of range r from where it was at
+// each earlier iteration's pose: at most trans + rot · r.
+void Icp::remember_search_pose(int iteration, const Eigen::Matrix3d& R, const Eigen::Vector3d& t) {
+  const auto it_index = static_cast<std::size_t>(iteration);
+  search_poses_[it_index] = SearchPose{R, t};
+  for (std::size_t j = 0; j < it_index; ++j) {
+    pose_change_rot_rad_[j] = Eigen::AngleAxisd(R * search_poses_[j].R.transpose()).angle();
+    pose_change_trans_m_[j] = (t - search_poses_[j].t).norm();
+  }
+}
+
+// The points spread over the runner's threads: each writes its own match
+// slots, gathered into matches_ in reading order.
+void Icp::associate(const PointCloud& reading, const LocalMap& map, const MatchContext& context,
+                    IcpResult& result) {
+  const std::size_t n = reading.size();
+  const std::size_t k = static_cast<std::size_t>(params_.match_k);
+  runner_->run(n, [&](std::size_t worker, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i)
+      point_match_count_[i] =
+          static_cast<std::uint8_t>(match_point(i, reading, map, context, workers_[worker], &point_matches_[i * k]));
+  });
+  matches_.clear();
+  for (std::size_t i = 0; i < n; ++i)
+    matches_.insert(matches_.end(), point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k),
+                    point_matches_.begin() + static_cast<std::ptrdiff_t>(i * k + point_match_count_[i]));
+  result.matches_considered = matches_.size();
+  result.matched_ratio = static_cast<double>(std::count_if(point_match_count_.begin(),
+                                                           point_match_count_.begin() + static_cast<std::ptrdiff_t>(n),
+                                                           [](std::uint8_t c) { return c > 0; })) /
+                         static_cast<double>(n);
+}
+
+// Outlier rejection (FRMSD) on the chosen distance.
+Icp::KeptMatches Icp::trim_matches(const Eigen::Vector3d& t) {
+  distances_sq_.resize(matches_.size());
+  for (std::size_t m = 0; m < matches_.size(); ++m) distances_sq_[m] = matches_[m].distance_sq;
+  KeptMatches kept;
+  kept.threshold_sq =
+      frmsd_trim(distances_sq_, params_.frmsd_r_min, params_.frmsd_r_max, params_.frmsd_lambda, scratch_).threshold_sq;
+  double range_sq_sum = 0;
+  for (const Match& m : matches_) {
+    if (m.distance_sq > kept.threshold_sq) continue;
+    kept.max_weight = std::max(kept.max_weight, m.weight);
+    range_sq_sum += (m.p_w - t).squaredNorm();
+    ++kept.count;
+  }
+  if (kept.count > 0) kept.length_scale = std::max(std::sqrt(range_sq_sum / static_cast<double>(kept.count)), 1e-3);
+  return kept;
+}
+
+// In the scaled coordinates (t, L·ω): J = [n, (p − t) × n / L].
+NormalEquations Icp::normal_equations(const KeptMatches& kept, const Eigen::Vector3d& t, IcpResult& result) const {
+  NormalEquations system;
+  system.length_scale = kept.length_scale;
+  double weighted_sq_sum = 0;
+  const double inv_l = 1.0 / kept.length_scale;
+  for (const Match& m : matches_) {
+    if (m.distance_sq > kept.threshold_sq) continue;
+    const double w = m.weight / kept.max_weight;
+    const double r = m.normal_w.dot(m.p_w - m.q_w);
+    Vector6d J;
+    J.head<3>() = m.normal_w;
+    J.tail<3>() = (m.p_w - t).cross(m.normal_w) * inv_l;
+    system.H.noalias() += w * J * J.transpose();
+    system.g.noalias() += w * r * J;
+    weighted_sq_sum += w * r * r;
+    system.weight_sum += w;
+  }
+  result.matches_kept = kept.count;
+  result.inlier_ratio = static_cast<double>(kept.count) / static_cast<double>(matches_.size());
+  result.residual_rms_m = std::sqrt(weighted_sq_sum / system.weight_sum);
+  const double dof = static_cast<double>(kept.count) - 6.0;
+  system.residual_variance = dof > 0 ? weighted_sq_sum / dof : 0.0;
+  return system;
+}
+
+bool Icp::converged_after(double rotation_rad, double translation_m) {
+  if (params_.convergence == ConvergenceCriterion::kIncrementBelow)
+    return rotation_rad < params_.increment_rotation_rad && translation_m < params_.increment_translation_m;
+  recent_rotation_rad_.push_back(rotation_rad);
+  recent_translation_m_.push_back(translation_m);
+  const std::size_t w = static_cast<std::size_t>(params_.averaged_window);
+  if (recent_rotation_rad_.size() < w) return false;
+  const double mean_rot =
+      std::accumulate(recent_rotation_rad_.end() - static_cast<std::ptrdiff_t>(w), recent_rotation_rad_.end(), 0.0) / w;
+  const double mean_trans =
+      std::accumulate(recent_translation_m_.end() - static_cast<std::ptrdiff_t>(w), recent_translation_m_.end(), 0.0) / w;
+  return mean_rot < params_.averaged_rotation_rad && mean_trans < params_.averaged_translation_m;
 }
 
 }  // namespace tumble

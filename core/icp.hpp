@@ -132,6 +132,16 @@ struct IcpResult {
   double solve_s = 0;
 };
 
+// One ICP iteration's weighted point-to-plane normal equations over the kept
+// matches, in the scaled coordinates (t, L·ω): H = Σ w·J·Jᵀ, g = Σ w·r·J.
+struct NormalEquations {
+  Matrix6d H = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  double weight_sum = 0;
+  double residual_variance = 0;  // s²: the weighted squared residuals over the degrees of freedom
+  double length_scale = 1;       // L (m)
+};
+
 struct FrmsdTrim {
   double ratio = 0;             // kept / n
   std::size_t kept = 0;         // the kept smallest values
@@ -217,6 +227,21 @@ class Icp {
   // displacement_m since its last search); returns how many are matches.
   std::size_t neighbours_of(std::size_t i, const Eigen::Vector3d& p_w, int iteration, const LocalMap& map,
                             double displacement_m, WorkerScratch& scratch);
+  // The matches FRMSD kept: those with distance_sq <= threshold_sq.
+  struct KeptMatches {
+    double threshold_sq = 0;
+    std::size_t count = 0;
+    double max_weight = 0;
+    double length_scale = 1;  // L: their RMS distance from the sensor, at least 1 mm
+  };
+
+  // align()'s steps, in the order it runs them each iteration.
+  void prepare(const PointCloud& reading);
+  void remember_search_pose(int iteration, const Eigen::Matrix3d& R, const Eigen::Vector3d& t);
+  void associate(const PointCloud& reading, const LocalMap& map, const MatchContext& context, IcpResult& result);
+  KeptMatches trim_matches(const Eigen::Vector3d& t);
+  NormalEquations normal_equations(const KeptMatches& kept, const Eigen::Vector3d& t, IcpResult& result) const;
+  bool converged_after(double rotation_rad, double translation_m);
   double now() const { return clock_ ? clock_() : 0.0; }
 
   IcpParams params_;

@@ -378,29 +378,7 @@ Eigen::Quaterniond ImuFuser::attitude_at(double t_s) const {
 
 CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& scan) {
   CorrectionResult result;
-  if (!initialized_) {
-    ++stats_.corrections_before_init;
-    return result;
-  }
-  if (awaiting_rest_) {
-    ++stats_.corrections_awaiting_rest;
-    return result;
-  }
-  if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
-    const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
-                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m,
-                              scan.unmeasured_w, scan.position_var_w_m2};
-    if (!anchor_ || scan.t_start_s > anchor_->t_s) {
-      previous_anchor_ = anchor_;
-      anchor_ = pose;
-      ++stats_.anchors_while_imu_silent;
-      return result;
-    }
-  }
-  if (!(scan.t_start_s > history_.front().t_s && scan.t_start_s <= history_.back().t_s)) {
-    ++stats_.corrections_outside_history;
-    return result;
-  }
+  if (!takes_correction(scan)) return result;
   anchor_.reset();
   previous_anchor_.reset();
   check_speeds_at_rest();
@@ -416,48 +394,7 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
                           scan.expected_rotation_error_rad <= params_.levelling_max_rotation_error_rad)) {
     newest_levelling_s_ = std::max(newest_levelling_s_.value_or(scan.t_start_s), scan.t_start_s);
   }
-
-  std::optional<VelocityMeasurement> velocity;
-  if (scan.jumped) {
-    // What the jump says the velocity may be wrong by, over the interval it closes (header, 8).
-    const double interval_s =
-        previous_registration_ ? std::max(scan.t_start_s - previous_registration_->t_s, 1e-3) : 0.1;
-    const double jump_m = (reset.p_wi - state_at(scan.t_start_s).p_w).norm();
-    reset.velocity_variance_floor_m2_s2 = (jump_m / interval_s) * (jump_m / interval_s);
-    ++stats_.jumps;
-    ++stats_.velocity_updates_skipped;
-  } else if (previous_registration_) {
-    const RegisteredPose& previous = *previous_registration_;
-    const double dt = scan.t_start_s - previous.t_s;
-    if (dt <= 0.0 || dt > params_.max_lidar_interval_s || previous.t_s < history_.front().t_s) {
-      ++stats_.velocity_updates_skipped;
-    } else {
-      const Eigen::Vector3d lidar_mean = (reset.p_wi - previous.p_wi) / dt;
-      const Eigen::Vector3d filter_mean =
-          (state_at(scan.t_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
-      // Either end may be a prediction along its held direction: the interval
-      // measures an axis only as well as both ends do (a held end that drifted
-      // would otherwise pass its whole drift into the velocity at once).
-      // Each end's variance per axis is at least its scan's own there: where
-      // the prediction's prior held the pose, the interval confirms the
-      // prediction's velocity and measures little.
-      const auto end_variance_m2 = [](double sigma_m, const Eigen::Vector3d& var_w_m2) {
-        return var_w_m2.cwiseMax(sigma_m * sigma_m);
-      };
-      const Eigen::Vector3d variance_m2 =
-          end_variance_m2(scan.position_sigma_m, scan.position_var_w_m2) +
-          end_variance_m2(previous.sigma_m, previous.var_w_m2);
-      const double unmeasured_m2 = params_.unmeasured_position_sigma_m * params_.unmeasured_position_sigma_m;
-      const Eigen::Vector3d unmeasured_per_axis_m2 =
-          unmeasured_m2 * (scan.unmeasured_w.cwiseAbs2() + previous.unmeasured_w.cwiseAbs2());
-      velocity = VelocityMeasurement{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
-                                     (variance_m2 + unmeasured_per_axis_m2) / (dt * dt)};
-      for (int i = 0; i < 3; ++i)
-        velocity->measured[static_cast<std::size_t>(i)] = unmeasured_per_axis_m2[i] <= variance_m2[i];
-      const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
-      lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
-    }
-  }
+  const std::optional<VelocityMeasurement> velocity = velocity_from_registrations(scan, q_wi_registered, reset);
 
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
@@ -470,6 +407,77 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   ++stats_.pose_corrections;
   if (velocity) ++stats_.velocity_updates;
   return result;
+}
+
+bool ImuFuser::takes_correction(const ScanCorrection& scan) {
+  if (!initialized_) {
+    ++stats_.corrections_before_init;
+    return false;
+  }
+  if (awaiting_rest_) {
+    ++stats_.corrections_awaiting_rest;
+    return false;
+  }
+  if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
+    const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
+                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m,
+                              scan.unmeasured_w, scan.position_var_w_m2};
+    if (!anchor_ || scan.t_start_s > anchor_->t_s) {
+      previous_anchor_ = anchor_;
+      anchor_ = pose;
+      ++stats_.anchors_while_imu_silent;
+      return false;
+    }
+  }
+  if (!(scan.t_start_s > history_.front().t_s && scan.t_start_s <= history_.back().t_s)) {
+    ++stats_.corrections_outside_history;
+    return false;
+  }
+  return true;
+}
+
+std::optional<ImuFuser::VelocityMeasurement> ImuFuser::velocity_from_registrations(
+    const ScanCorrection& scan, const Eigen::Quaterniond& q_wi_registered, PoseReset& reset) {
+  if (scan.jumped) {
+    // What the jump says the velocity may be wrong by, over the interval it closes (header, 8).
+    const double interval_s =
+        previous_registration_ ? std::max(scan.t_start_s - previous_registration_->t_s, 1e-3) : 0.1;
+    const double jump_m = (reset.p_wi - state_at(scan.t_start_s).p_w).norm();
+    reset.velocity_variance_floor_m2_s2 = (jump_m / interval_s) * (jump_m / interval_s);
+    ++stats_.jumps;
+    ++stats_.velocity_updates_skipped;
+    return std::nullopt;
+  }
+  if (!previous_registration_) return std::nullopt;
+  const RegisteredPose& previous = *previous_registration_;
+  const double dt = scan.t_start_s - previous.t_s;
+  if (dt <= 0.0 || dt > params_.max_lidar_interval_s || previous.t_s < history_.front().t_s) {
+    ++stats_.velocity_updates_skipped;
+    return std::nullopt;
+  }
+  const Eigen::Vector3d lidar_mean = (reset.p_wi - previous.p_wi) / dt;
+  const Eigen::Vector3d filter_mean = (state_at(scan.t_start_s).v_integral - state_at(previous.t_s).v_integral) / dt;
+  // Either end may be a prediction along its held direction: the interval
+  // measures an axis only as well as both ends do (a held end that drifted
+  // would otherwise pass its whole drift into the velocity at once).
+  // Each end's variance per axis is at least its scan's own there: where
+  // the prediction's prior held the pose, the interval confirms the
+  // prediction's velocity and measures little.
+  const auto end_variance_m2 = [](double sigma_m, const Eigen::Vector3d& var_w_m2) {
+    return var_w_m2.cwiseMax(sigma_m * sigma_m);
+  };
+  const Eigen::Vector3d variance_m2 = end_variance_m2(scan.position_sigma_m, scan.position_var_w_m2) +
+                                      end_variance_m2(previous.sigma_m, previous.var_w_m2);
+  const double unmeasured_m2 = params_.unmeasured_position_sigma_m * params_.unmeasured_position_sigma_m;
+  const Eigen::Vector3d unmeasured_per_axis_m2 =
+      unmeasured_m2 * (scan.unmeasured_w.cwiseAbs2() + previous.unmeasured_w.cwiseAbs2());
+  VelocityMeasurement velocity{previous.t_s + 0.5 * dt, lidar_mean - filter_mean,
+                               (variance_m2 + unmeasured_per_axis_m2) / (dt * dt)};
+  for (int i = 0; i < 3; ++i)
+    velocity.measured[static_cast<std::size_t>(i)] = unmeasured_per_axis_m2[i] <= variance_m2[i];
+  const Eigen::AngleAxisd turn((previous.q_wi.conjugate() * q_wi_registered).normalized());
+  lidar_rate_i_rad_s_ = turn.angle() * turn.axis() / dt;
+  return velocity;
 }
 
 void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset) {
@@ -492,44 +500,13 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
   // own attitude keeps its steps as taken.
   std::size_t scan_end = base + 1;
   while (scan_end + 1 < history_.size() && history_[scan_end].t_s < reset.t_scan_end_s) ++scan_end;
-  std::optional<Eigen::Quaterniond> previous_q_before, previous_q_after;
-  MadgwickFilter attitude = madgwick_;
+  AttitudeRebuild rebuild{.filter = madgwick_, .previous_q_before = std::nullopt, .previous_q_after = std::nullopt};
 
   for (std::size_t n = base + 1; n < history_.size(); ++n) {
     HistoryEntry& entry = history_[n];
     const double t_previous = t;
     const Eigen::Vector3d accel_previous = accel_at_t;
-    if (entry.t_s >= reset.t_s) {
-      const Eigen::Quaterniond q_before = entry.q_wi;
-      // The accelerometer may have stepped this sample before the correction
-      // came; where it is left out, the gyro alone rebuilds it (header, 2).
-      const bool gyro_alone = !params_.attitude_from_device && !accelerometer_levels(entry.t_s);
-      if (!previous_q_after) {
-        entry.q_wi = gyro_alone && !any(entry.gyro_clipped)
-                         ? integrate_body_rate(reset.q_wi, entry.gyro_i, entry.t_s - reset.t_s)
-                         : (reset.correction * q_before).normalized();
-      } else if (n > scan_end && !params_.attitude_from_device) {
-        if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
-        // The correction sets the filter (normalised) to the newest attitude
-        // it finds, as at the end of this function; add_imu() then steps on
-        // from the filter's own output.
-        if (n == scan_end + 1) {
-          attitude.set_orientation(*previous_q_after);
-        } else {
-          attitude.resume_from(*previous_q_after);
-        }
-        step_attitude(attitude, entry, entry.t_s - history_[n - 1].t_s);
-        entry.q_wi = attitude.orientation();
-      } else if (any(entry.gyro_clipped) || gyro_alone) {
-        if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
-        entry.q_wi = integrate_body_rate(*previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
-      } else {
-        entry.q_wi = (*previous_q_after * (previous_q_before->conjugate() * q_before)).normalized();
-      }
-      previous_q_before = q_before;
-      previous_q_after = entry.q_wi;
-      entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
-    }
+    if (entry.t_s >= reset.t_s) rebuild_attitude(n, scan_end, reset, rebuild);
     // Advances the state to an event time inside (t_previous, entry.t_s];
     // at the sample itself with its own acceleration, as add_imu() does
     // (a + (b − a) need not be b).
@@ -543,14 +520,7 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     };
     if (velocity_pending && velocity->t_s <= entry.t_s) {
       advance_to(velocity->t_s);
-      for (int i = 0; i < 3; ++i) {
-        const double total = state.variance[i] + velocity->noise_variance[i];
-        const double gain = total > 0.0 ? state.variance[i] / total : 0.0;
-        state.v_w[i] += gain * velocity->innovation[i];
-        state.variance[i] *= 1.0 - gain;
-      }
-      // A clipped axis's speed is known again once a scan measures it.
-      for (std::size_t i = 0; i < 3; ++i) state.speed_unknown[i] = state.speed_unknown[i] && !velocity->measured[i];
+      update_velocity(state, *velocity);
       velocity_pending = false;
     }
     if (reset_pending && reset.t_s <= entry.t_s) {
@@ -578,6 +548,54 @@ void ImuFuser::repropagate(const std::optional<VelocityMeasurement>& velocity, c
     madgwick_.resume_from(history_.back().q_wi);
   }
   if (device_alignment_) device_alignment_ = (reset.correction * *device_alignment_).normalized();
+}
+
+// Entry n's attitude after the reset (header, 2), from the newest rebuilt
+// one before it in `rebuild`.
+void ImuFuser::rebuild_attitude(std::size_t n, std::size_t scan_end, const PoseReset& reset,
+                                AttitudeRebuild& rebuild) {
+  HistoryEntry& entry = history_[n];
+  const Eigen::Quaterniond q_before = entry.q_wi;
+  // The accelerometer may have stepped this sample before the correction
+  // came; where it is left out, the gyro alone rebuilds it (header, 2).
+  const bool gyro_alone = !params_.attitude_from_device && !accelerometer_levels(entry.t_s);
+  if (!rebuild.previous_q_after) {
+    entry.q_wi = gyro_alone && !any(entry.gyro_clipped)
+                     ? integrate_body_rate(reset.q_wi, entry.gyro_i, entry.t_s - reset.t_s)
+                     : (reset.correction * q_before).normalized();
+  } else if (n > scan_end && !params_.attitude_from_device) {
+    if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
+    // The correction sets the filter (normalised) to the newest attitude
+    // it finds, as at the end of repropagate(); add_imu() then steps on
+    // from the filter's own output.
+    if (n == scan_end + 1) {
+      rebuild.filter.set_orientation(*rebuild.previous_q_after);
+    } else {
+      rebuild.filter.resume_from(*rebuild.previous_q_after);
+    }
+    step_attitude(rebuild.filter, entry, entry.t_s - history_[n - 1].t_s);
+    entry.q_wi = rebuild.filter.orientation();
+  } else if (any(entry.gyro_clipped) || gyro_alone) {
+    if (any(entry.gyro_clipped)) entry.gyro_i = unclipped_gyro(entry.gyro_clipped_i, entry.gyro_clipped);
+    entry.q_wi = integrate_body_rate(*rebuild.previous_q_after, entry.gyro_i, entry.t_s - history_[n - 1].t_s);
+  } else {
+    entry.q_wi = (*rebuild.previous_q_after * (rebuild.previous_q_before->conjugate() * q_before)).normalized();
+  }
+  rebuild.previous_q_before = q_before;
+  rebuild.previous_q_after = entry.q_wi;
+  entry.accel_w = gravity_free_accel(entry.q_wi, entry.accel_i);
+}
+
+// A Kalman update per W axis.
+void ImuFuser::update_velocity(KinematicState& state, const VelocityMeasurement& velocity) {
+  for (int i = 0; i < 3; ++i) {
+    const double total = state.variance[i] + velocity.noise_variance[i];
+    const double gain = total > 0.0 ? state.variance[i] / total : 0.0;
+    state.v_w[i] += gain * velocity.innovation[i];
+    state.variance[i] *= 1.0 - gain;
+  }
+  // A clipped axis's speed is known again once a scan measures it.
+  for (std::size_t i = 0; i < 3; ++i) state.speed_unknown[i] = state.speed_unknown[i] && !velocity.measured[i];
 }
 
 TrajectorySample ImuFuser::to_trajectory_sample(const HistoryEntry& entry) const {

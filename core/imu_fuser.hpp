@@ -321,6 +321,16 @@ class ImuFuser {
   void end_wait_at_rest(HistoryEntry& entry);
   // The fused speed of the still windows that no correction can rewrite any more (header, 10).
   void check_speeds_at_rest();
+  // Whether a scan's registered pose corrects the fused state now; false
+  // before initialisation, while waiting for rest, outside the history, or
+  // when it is kept as an anchor while the IMU is silent (header, 7).
+  bool takes_correction(const ScanCorrection& scan);
+  // What the interval from the previous registration says of the velocity;
+  // none after a jump, which floors the velocity's variance in `reset`
+  // instead (header, 8).
+  std::optional<VelocityMeasurement> velocity_from_registrations(const ScanCorrection& scan,
+                                                                 const Eigen::Quaterniond& q_wi_registered,
+                                                                 PoseReset& reset);
   void reanchor(const ImuSample& sample);
   void initialize(const ImuSample& last_sample);
   Eigen::Vector3d gravity_free_accel(const Eigen::Quaterniond& q_wi, const Eigen::Vector3d& accel_i) const;
@@ -340,6 +350,14 @@ class ImuFuser {
   // the accelerometer's step was left out for clipping or the gate.
   bool step_attitude(MadgwickFilter& filter, const HistoryEntry& entry, double dt_s) const;
   void repropagate(const std::optional<VelocityMeasurement>& velocity, const PoseReset& reset);
+  // What repropagate() carries from one rebuilt attitude to the next.
+  struct AttitudeRebuild {
+    MadgwickFilter filter;  // steps on from the rebuilt attitude after the scan's end
+    std::optional<Eigen::Quaterniond> previous_q_before;  // the last entry's attitude as taken
+    std::optional<Eigen::Quaterniond> previous_q_after;   // and as rebuilt
+  };
+  void rebuild_attitude(std::size_t n, std::size_t scan_end, const PoseReset& reset, AttitudeRebuild& rebuild);
+  static void update_velocity(KinematicState& state, const VelocityMeasurement& velocity);
   TrajectorySample to_trajectory_sample(const HistoryEntry& entry) const;
 
   ImuFuserParams params_;

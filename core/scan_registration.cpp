@@ -99,95 +99,21 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
   StageTimings& timing = result.timings;
   timing.measured = static_cast<bool>(clock_);
   const double clock_start = now();
-  double mark = clock_start;
-  // Stages run in pieces (normals and σ's of the map's new points come after
-  // ICP): each piece adds to its stage, and the stages sum to the total.
-  auto lap = [&](double& stage) {
-    const double t = now();
-    stage += t - mark;
-    mark = t;
-  };
+  lap_mark_ = clock_start;
 
-  // De-skew into the lidar frame at the scan's first point.
-  const std::size_t n = scan.points.size();
-  raw_.resize(n);
-  deskew_scan(scan, trajectory, conditions.deskew, raw_.points);
-  for (std::size_t i = 0; i < n; ++i) {
-    raw_.times_s[i] = scan.points[i].t_s;
-    raw_.rings[i] = scan.points[i].laser;
-  }
+  deskew(scan, trajectory, conditions.deskew);
   lap(timing.deskew_s);
-
-  downsampler_.apply(raw_, reading_);
-  result.points_downsampled = reading_.size();
-  if (params_.registration_voxel_size_m > params_.voxel_size_m) {
-    registration_selector_.select(reading_.points, registered_indices_);
-  } else {
-    registered_indices_.resize(reading_.size());
-    for (std::size_t i = 0; i < reading_.size(); ++i) registered_indices_[i] = static_cast<std::uint32_t>(i);
-  }
-  result.points_registered = registered_indices_.size();
+  downsample(result);
   lap(timing.downsample_s);
   if (reading_.size() < params_.min_scan_points) return ScanOutcome::TooSmall;
 
-  // Normals and σ's are costly per point and needed only for the points ICP
-  // registers and the points the map will take (few, in steady state): each
-  // is fitted from the whole down-sampled cloud, once. The GVTW corner term
-  // compares the σ's of neighbouring points along a ring, so with it every
-  // point gets its σ (and so its normal) first.
-  const bool weigh_whole_scan =
-      params_.weights.model == WeightModel::GVTW && params_.weights.corner_point_uncertainty_m != 0.0;
-  const double t_last = *std::max_element(reading_.times_s.begin(), reading_.times_s.end());
-  auto weigh = [&](PointCloud& cloud) {
-    PointWeightInput input;
-    input.points_l = cloud.points;
-    input.times_s = cloud.times_s;
-    input.normals = cloud.normals;
-    input.curvatures = cloud.curvatures;
-    input.rings = cloud.rings;
-    input.t_scan_start_s = t_start;
-    input.t_scan_end_s = t_last;
-    input.deskewed = conditions.deskew && conditions.trajectory_measured;
-    compute_point_weights(params_.weights, trajectory, input,
-                          PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
-  };
-  const bool from_scan_lines = params_.reading_normal_source == ReadingNormalSource::kScanLines;
-  auto fit_normals = [&](std::span<const std::uint32_t> indices) {
-    normals_todo_.clear();
-    for (const std::uint32_t i : indices) {
-      if (normal_done_[i]) continue;
-      normal_done_[i] = 1;
-      normals_todo_.push_back(i);
-    }
-    if (from_scan_lines) {
-      line_normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
-    } else {
-      normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
-    }
-  };
-  auto gather = [&](std::span<const std::uint32_t> indices, PointCloud& out) {
-    out.resize(indices.size());
-    for (std::size_t j = 0; j < indices.size(); ++j) out.copy_point(j, reading_, indices[j]);
-  };
-
-  if (from_scan_lines) {
-    ring_elevations_rad(scan, ring_elevations_rad_);
-    line_normals_.index(reading_, ring_elevations_rad_);
-  } else {
-    normals_.index(reading_);
-  }
-  normal_done_.assign(reading_.size(), 0);
-  if (weigh_whole_scan) {
-    all_indices_.resize(reading_.size());
-    std::iota(all_indices_.begin(), all_indices_.end(), std::uint32_t{0});
-    fit_normals(all_indices_);
-  } else {
-    fit_normals(registered_indices_);
-  }
+  const ScanInputs in{.trajectory = trajectory,
+                      .conditions = conditions,
+                      .t_start_s = t_start,
+                      .t_last_s = *std::max_element(reading_.times_s.begin(), reading_.times_s.end())};
+  fit_registered_normals(scan);
   lap(timing.normals_s);
-  if (weigh_whole_scan) weigh(reading_);
-  gather(registered_indices_, registered_);
-  if (!weigh_whole_scan) weigh(registered_);
+  weigh_registered(in);
   lap(timing.weights_s);
 
   const Eigen::Isometry3d predicted = trajectory.pose_at(t_start);
@@ -198,48 +124,174 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     result.map_initialised = true;
     result.registered = true;
   } else {
-    // A weak translation is held in a corridor too (the IMU carries the
-    // axis, the fuser is told): free, ICP followed the rings' pattern and
-    // the walks stood still. Its pitch no longer goes wrong there since the
-    // scans that pin the attitude level it (ImuFuserParams::
-    // levelling_max_rotation_error_rad; docs/decisions/attitude-between-scans.md).
-    // The prediction holds ICP where the scan pins the pose no better
-    // (position_uncertainty.hpp); not where a clipped sensor made it a
-    // guess, and not in a corridor (above) until its window is clear of
-    // weak scans again: after a spell the fused velocity is whatever the
-    // lost scans made it, and where the corridor half-pins its axis the
-    // prior pulled the pose along it while its scans were published as good.
-    result.prediction_prior = position_uncertainty_.enabled() && conditions.trajectory_measured &&
-                              !unobserved_direction_.since_spell() &&
-                              !clipped_since(trajectory, position_uncertainty_.updated_at_s());
-    const Eigen::Matrix3d prior_information =
-        result.prediction_prior
-            ? position_uncertainty_.prior_information(t_start, params_.confidence.covariance_scale,
-                                                      velocity_var_w)
-            : Eigen::Matrix3d::Zero();
-    const IcpResult icp = icp_.align(registered_, map_, predicted, prior_information);
-    result.registered = icp.matches_kept >= 6;
-    result.converged = icp.converged;
-    result.iterations = icp.iterations;
-    result.inlier_ratio = icp.inlier_ratio;
-    result.matched_ratio = icp.matched_ratio;
-    result.residual_rms_m = icp.residual_rms_m;
-    result.covariance = icp.covariance;
-    result.degeneracy = icp.degeneracy;
-    result.held_translation_w = icp.held_translation_w;
-    timing.icp_matching_s = icp.matching_s;
-    timing.icp_solve_s = icp.solve_s;
-    result.correction_w = icp.T_wl.translation() - predicted.translation();
-    result.rotation_from_prediction_rad =
-        Eigen::AngleAxisd(predicted.rotation().transpose() * icp.T_wl.rotation()).angle();
-    const auto beyond = [](double value, double limit) { return limit > 0 && value > limit; };
-    if (result.registered && (beyond(result.correction_w.norm(), conditions.max_translation_m) ||
-                              beyond(result.rotation_from_prediction_rad, conditions.max_rotation_rad))) {
-      result.registered = false;
-      result.rejected = true;
-    }
-    if (result.registered) result.T_wl = icp.T_wl;
+    align_to_map(in, predicted, velocity_var_w, result);
   }
+  estimate_uncertainty(in, velocity_var_w, result);
+  lap(timing.registration_s);
+
+  // A jump is not in the map, whose points must stay where the scans that agree put them.
+  const bool update_map = result.registered && !result.jumped;
+  if (update_map && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
+      params_.seen_through.enabled && result.expected_error_icp_m <= params_.seen_through.max_expected_error_m) {
+    // Before the scan's own points go in: they lie at its beams' ends.
+    remove_seen_through(in, result);
+    lap(timing.seen_through_s);
+  }
+  if (update_map) add_to_map(in, result);
+  result.map_points = map_.size();
+  lap(timing.map_update_s);
+  timing.total_s = lap_mark_ - clock_start;
+  return ScanOutcome::Registered;
+}
+
+void ScanRegistration::lap(double& stage_s) {
+  const double t = now();
+  stage_s += t - lap_mark_;
+  lap_mark_ = t;
+}
+
+// Into the lidar frame at the scan's first point.
+void ScanRegistration::deskew(const Scan& scan, const Trajectory& trajectory, bool along_trajectory) {
+  const std::size_t n = scan.points.size();
+  raw_.resize(n);
+  deskew_scan(scan, trajectory, along_trajectory, raw_.points);
+  for (std::size_t i = 0; i < n; ++i) {
+    raw_.times_s[i] = scan.points[i].t_s;
+    raw_.rings[i] = scan.points[i].laser;
+  }
+}
+
+void ScanRegistration::downsample(ScanResult& result) {
+  downsampler_.apply(raw_, reading_);
+  result.points_downsampled = reading_.size();
+  if (params_.registration_voxel_size_m > params_.voxel_size_m) {
+    registration_selector_.select(reading_.points, registered_indices_);
+  } else {
+    registered_indices_.resize(reading_.size());
+    for (std::size_t i = 0; i < reading_.size(); ++i) registered_indices_[i] = static_cast<std::uint32_t>(i);
+  }
+  result.points_registered = registered_indices_.size();
+}
+
+// Normals and σ's are costly per point and needed only for the points ICP
+// registers and the points the map will take (few, in steady state): each
+// is fitted from the whole down-sampled cloud, once. The GVTW corner term
+// compares the σ's of neighbouring points along a ring, so with it every
+// point gets its σ (and so its normal) first.
+bool ScanRegistration::weighs_whole_scan() const {
+  return params_.weights.model == WeightModel::GVTW && params_.weights.corner_point_uncertainty_m != 0.0;
+}
+
+bool ScanRegistration::normals_from_scan_lines() const {
+  return params_.reading_normal_source == ReadingNormalSource::kScanLines;
+}
+
+void ScanRegistration::fit_registered_normals(const Scan& scan) {
+  if (normals_from_scan_lines()) {
+    ring_elevations_rad(scan, ring_elevations_rad_);
+    line_normals_.index(reading_, ring_elevations_rad_);
+  } else {
+    normals_.index(reading_);
+  }
+  normal_done_.assign(reading_.size(), 0);
+  if (weighs_whole_scan()) {
+    all_indices_.resize(reading_.size());
+    std::iota(all_indices_.begin(), all_indices_.end(), std::uint32_t{0});
+    fit_normals(all_indices_);
+  } else {
+    fit_normals(registered_indices_);
+  }
+}
+
+void ScanRegistration::fit_normals(std::span<const std::uint32_t> indices) {
+  normals_todo_.clear();
+  for (const std::uint32_t i : indices) {
+    if (normal_done_[i]) continue;
+    normal_done_[i] = 1;
+    normals_todo_.push_back(i);
+  }
+  if (normals_from_scan_lines()) {
+    line_normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+  } else {
+    normals_.estimate(reading_, Eigen::Vector3d::Zero(), normals_todo_);
+  }
+}
+
+void ScanRegistration::weigh_registered(const ScanInputs& in) {
+  if (weighs_whole_scan()) weigh(in, reading_);
+  gather(registered_indices_, registered_);
+  if (!weighs_whole_scan()) weigh(in, registered_);
+}
+
+void ScanRegistration::weigh(const ScanInputs& in, PointCloud& cloud) {
+  PointWeightInput input;
+  input.points_l = cloud.points;
+  input.times_s = cloud.times_s;
+  input.normals = cloud.normals;
+  input.curvatures = cloud.curvatures;
+  input.rings = cloud.rings;
+  input.t_scan_start_s = in.t_start_s;
+  input.t_scan_end_s = in.t_last_s;
+  input.deskewed = in.conditions.deskew && in.conditions.trajectory_measured;
+  compute_point_weights(params_.weights, in.trajectory, input,
+                        PointWeightOutput{cloud.sigma_n_m, cloud.sigma_s_m, cloud.weights}, weight_workspace_);
+}
+
+void ScanRegistration::gather(std::span<const std::uint32_t> indices, PointCloud& out) const {
+  out.resize(indices.size());
+  for (std::size_t j = 0; j < indices.size(); ++j) out.copy_point(j, reading_, indices[j]);
+}
+
+void ScanRegistration::align_to_map(const ScanInputs& in, const Eigen::Isometry3d& predicted,
+                                    const Eigen::Vector3d& velocity_var_w, ScanResult& result) {
+  // A weak translation is held in a corridor too (the IMU carries the
+  // axis, the fuser is told): free, ICP followed the rings' pattern and
+  // the walks stood still. Its pitch no longer goes wrong there since the
+  // scans that pin the attitude level it (ImuFuserParams::
+  // levelling_max_rotation_error_rad; docs/decisions/attitude-between-scans.md).
+  // The prediction holds ICP where the scan pins the pose no better
+  // (position_uncertainty.hpp); not where a clipped sensor made it a
+  // guess, and not in a corridor (above) until its window is clear of
+  // weak scans again: after a spell the fused velocity is whatever the
+  // lost scans made it, and where the corridor half-pins its axis the
+  // prior pulled the pose along it while its scans were published as good.
+  result.prediction_prior = position_uncertainty_.enabled() && in.conditions.trajectory_measured &&
+                            !unobserved_direction_.since_spell() &&
+                            !clipped_since(in.trajectory, position_uncertainty_.updated_at_s());
+  const Eigen::Matrix3d prior_information =
+      result.prediction_prior
+          ? position_uncertainty_.prior_information(in.t_start_s, params_.confidence.covariance_scale, velocity_var_w)
+          : Eigen::Matrix3d::Zero();
+  const IcpResult icp = icp_.align(registered_, map_, predicted, prior_information);
+  result.registered = icp.matches_kept >= 6;
+  result.converged = icp.converged;
+  result.iterations = icp.iterations;
+  result.inlier_ratio = icp.inlier_ratio;
+  result.matched_ratio = icp.matched_ratio;
+  result.residual_rms_m = icp.residual_rms_m;
+  result.covariance = icp.covariance;
+  result.degeneracy = icp.degeneracy;
+  result.held_translation_w = icp.held_translation_w;
+  result.timings.icp_matching_s = icp.matching_s;
+  result.timings.icp_solve_s = icp.solve_s;
+  result.correction_w = icp.T_wl.translation() - predicted.translation();
+  result.rotation_from_prediction_rad =
+      Eigen::AngleAxisd(predicted.rotation().transpose() * icp.T_wl.rotation()).angle();
+  const auto beyond = [](double value, double limit) { return limit > 0 && value > limit; };
+  if (result.registered && (beyond(result.correction_w.norm(), in.conditions.max_translation_m) ||
+                            beyond(result.rotation_from_prediction_rad, in.conditions.max_rotation_rad))) {
+    result.registered = false;
+    result.rejected = true;
+  }
+  if (result.registered) result.T_wl = icp.T_wl;
+}
+
+// The registration's covariance, calibrated and fused with the prediction's
+// where the prior held it; whether it jumped from the prediction; the
+// unobserved direction's bookkeeping.
+void ScanRegistration::estimate_uncertainty(const ScanInputs& in, const Eigen::Vector3d& velocity_var_w,
+                                            ScanResult& result) {
+  const double t_start = in.t_start_s;
   const double trace_sigma = std::sqrt(std::max(result.covariance.topLeftCorner<3, 3>().trace() / 3.0, 0.0));
   result.position_sigma_m = std::isfinite(trace_sigma) && !result.map_initialised
                                 ? std::max(trace_sigma, params_.min_position_sigma_m)
@@ -293,48 +345,41 @@ ScanOutcome ScanRegistration::process(const Scan& scan, const Trajectory& trajec
     position_uncertainty_.replace_with_scan(t_start, result.covariance_published, velocity_var_w);
   }
   result.expected_error_m = expected_position_error_m(result.covariance_published);
-  lap(timing.registration_s);
+}
 
-  // A jump is not in the map, whose points must stay where the scans that agree put them.
-  const bool update_map = result.registered && !result.jumped;
-  if (update_map && conditions.deskew && conditions.trajectory_measured && !map_.empty() &&
-      params_.seen_through.enabled && result.expected_error_icp_m <= params_.seen_through.max_expected_error_m) {
-    // Before the scan's own points go in: they lie at its beams' ends.
-    // Every beam_stride-th registered point casts a beam, the others on the next scans.
-    const std::size_t stride = params_.seen_through.beam_stride;
-    const Eigen::Isometry3d to_scan_start = trajectory.pose_at(t_start).inverse();
-    const Eigen::Matrix3d R_wl = result.T_wl.linear();
-    std::size_t hint = 0;
-    beams_.clear();
-    for (std::size_t i = seen_through_scans_++ % stride; i < registered_.size(); i += stride) {
-      MapBeam& beam = beams_.emplace_back();
-      beam.origin_w = result.T_wl * (to_scan_start * trajectory.pose_at(registered_.times_s[i], hint)).translation();
-      beam.end_w = result.T_wl * registered_.points[i];
-      beam.end_normal_w = registered_.normal_valid[i] ? Eigen::Vector3d(R_wl * registered_.normals[i])
-                                                      : Eigen::Vector3d::Zero();
-    }
-    returns_w_.resize(reading_.size());
-    for (std::size_t i = 0; i < reading_.size(); ++i) returns_w_[i] = result.T_wl * reading_.points[i];
-    result.map_points_seen_through = seen_through_.remove(map_, beams_, returns_w_);
-    lap(timing.seen_through_s);
+// Every beam_stride-th registered point casts a beam, the others on the next scans.
+void ScanRegistration::remove_seen_through(const ScanInputs& in, ScanResult& result) {
+  const std::size_t stride = params_.seen_through.beam_stride;
+  const Eigen::Isometry3d to_scan_start = in.trajectory.pose_at(in.t_start_s).inverse();
+  const Eigen::Matrix3d R_wl = result.T_wl.linear();
+  std::size_t hint = 0;
+  beams_.clear();
+  for (std::size_t i = seen_through_scans_++ % stride; i < registered_.size(); i += stride) {
+    MapBeam& beam = beams_.emplace_back();
+    beam.origin_w = result.T_wl * (to_scan_start * in.trajectory.pose_at(registered_.times_s[i], hint)).translation();
+    beam.end_w = result.T_wl * registered_.points[i];
+    beam.end_normal_w =
+        registered_.normal_valid[i] ? Eigen::Vector3d(R_wl * registered_.normals[i]) : Eigen::Vector3d::Zero();
   }
-  if (update_map) {
-    // Only points with no map point within the minimum distance can go in.
-    const std::size_t candidates = map_.find_insert_candidates(reading_.points, result.T_wl, candidate_indices_);
-    lap(timing.map_update_s);
-    fit_normals(candidate_indices_);
-    lap(timing.normals_s);
-    gather(candidate_indices_, map_candidates_);
-    if (!weigh_whole_scan) weigh(map_candidates_);
-    lap(timing.weights_s);
-    result.map_insert = map_.insert(map_candidates_, result.T_wl);
-    result.map_insert.rejected_too_close += reading_.size() - candidates;
-    map_.remove_far_from(result.T_wl.translation());
-  }
-  result.map_points = map_.size();
+  returns_w_.resize(reading_.size());
+  for (std::size_t i = 0; i < reading_.size(); ++i) returns_w_[i] = result.T_wl * reading_.points[i];
+  result.map_points_seen_through = seen_through_.remove(map_, beams_, returns_w_);
+}
+
+// Only points with no map point within the minimum distance can go in; their
+// normals and σ's are fitted now, their time counted in those stages.
+void ScanRegistration::add_to_map(const ScanInputs& in, ScanResult& result) {
+  StageTimings& timing = result.timings;
+  const std::size_t candidates = map_.find_insert_candidates(reading_.points, result.T_wl, candidate_indices_);
   lap(timing.map_update_s);
-  timing.total_s = mark - clock_start;
-  return ScanOutcome::Registered;
+  fit_normals(candidate_indices_);
+  lap(timing.normals_s);
+  gather(candidate_indices_, map_candidates_);
+  if (!weighs_whole_scan()) weigh(in, map_candidates_);
+  lap(timing.weights_s);
+  result.map_insert = map_.insert(map_candidates_, result.T_wl);
+  result.map_insert.rejected_too_close += reading_.size() - candidates;
+  map_.remove_far_from(result.T_wl.translation());
 }
 
 }  // namespace tumble

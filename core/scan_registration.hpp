@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <span>
 
 #include "core/icp.hpp"
 #include "core/imu_fuser.hpp"
@@ -218,7 +219,36 @@ class ScanRegistration {
   const LocalMap& map() const { return map_; }
 
  private:
+  // One scan's facts that its stages share.
+  struct ScanInputs {
+    const Trajectory& trajectory;
+    const ScanConditions& conditions;
+    double t_start_s;
+    double t_last_s;  // the down-sampled scan's latest point
+  };
+
   double now() const { return clock_ ? clock_() : 0.0; }
+  // Adds the time since the last lap to `stage_s`: stages run in pieces (the
+  // normals and σ's of the map's new points come after ICP), and the pieces
+  // sum to the total.
+  void lap(double& stage_s);
+
+  // The stages, in the order process() runs them.
+  void deskew(const Scan& scan, const Trajectory& trajectory, bool along_trajectory);
+  void downsample(ScanResult& result);
+  void fit_registered_normals(const Scan& scan);
+  void weigh_registered(const ScanInputs& in);
+  void align_to_map(const ScanInputs& in, const Eigen::Isometry3d& predicted, const Eigen::Vector3d& velocity_var_w,
+                    ScanResult& result);
+  void estimate_uncertainty(const ScanInputs& in, const Eigen::Vector3d& velocity_var_w, ScanResult& result);
+  void remove_seen_through(const ScanInputs& in, ScanResult& result);
+  void add_to_map(const ScanInputs& in, ScanResult& result);
+
+  bool weighs_whole_scan() const;
+  bool normals_from_scan_lines() const;
+  void fit_normals(std::span<const std::uint32_t> indices);  // of reading_, each once per scan
+  void weigh(const ScanInputs& in, PointCloud& cloud);
+  void gather(std::span<const std::uint32_t> indices, PointCloud& out) const;  // from reading_
 
   OdometryParams params_;
   Clock clock_;
@@ -247,6 +277,7 @@ class ScanRegistration {
   std::vector<std::uint32_t> candidate_indices_;
   std::vector<std::uint32_t> normals_todo_;
   std::vector<std::uint32_t> all_indices_;
+  double lap_mark_ = 0;  // the clock at the last lap
 };
 
 }  // namespace tumble
