@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Whether the arm64 tumbled gives the amd64 answer (issue 18): replays the
+# Whether the arm64 tumbled gives the amd64 answer: replays the
 # default demo run (tools/sim/scenarios/default.yaml, made by the amd64
 # tumble-sim) at --rate max through the amd64 tumbled and through the arm64
 # one under qemu-user, scores both against ground truth with tumble-eval, and

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The soak of issue 13: tumbled live for ten minutes (tools/sim/scenarios/
+# The soak: tumbled live for ten minutes (tools/sim/scenarios/
 # soak.yaml, the long run's out-and-back twelve times over) against
 # tumble-sim live, with its resident memory sampled every 10 s. Prints the
 # peak RSS, the RSS slope after the first two minutes (the local map and the

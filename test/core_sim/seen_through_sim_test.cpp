@@ -1,4 +1,4 @@
-// What moved leaves the map, on a simulated run (issue 19): the rolling cage
+// What moved leaves the map, on a simulated run: the rolling cage
 // pulled down the garage's lane by the rope puller walking ahead of it, with
 // four walkers crossing. Registered with the ground truth as trajectory (so
 // the map is where the truth says), the map at the end must not keep the

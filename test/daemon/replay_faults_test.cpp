@@ -1,10 +1,9 @@
 // tumbled replaying a short simulated cage run with one sensor gap mid-tumble,
 // or its lidar starting mid-tumble (tumble-sim faults): the health states on
-// data time, the same on every replay, and the final error bound of issue 13
-// (at most 5 cm/m). And a recording whose lidar datagrams arrived late:
-// byte-identical trajectories whatever the thread count and the machine's
-// load, and at real time the same trajectory as long as nothing is dropped
-// (issue 19).
+// data time, the same on every replay, and a final error of at most 5 cm/m.
+// And a recording whose lidar datagrams arrived late: byte-identical
+// trajectories whatever the thread count and the machine's load, and at real
+// time the same trajectory as long as nothing is dropped.
 #include <gtest/gtest.h>
 
 #include <algorithm>

@@ -144,7 +144,8 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bench->add_flag("--realistic", bench_options.realistic,
                   "bench2: every sensor error source on, the rig's lidar-IMU time offset, the cage's bars, "
-                  "and 12 long out-and-back runs in the garage, corridor and yard");
+                  "12 long out-and-back runs in the garage, corridor and yard, 12 runs with people, and 2 "
+                  "long cage runs down the glass-ended hall with people, mixed pixels and network jitter");
   bench->add_option("--max-duration", bench_options.max_duration_s, "cut every run to at most this many seconds")
       ->check(CLI::PositiveNumber);
 
