@@ -276,7 +276,8 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
   const double normal_test_cos = std::cos(std::min(params_.max_normal_angle_deg, 90.0) * std::numbers::pi / 180.0);
   bool normal_test_on = false;
   // A prior that is not finite (a covariance gone wrong upstream) is no prior.
-  const bool has_prior = prior_information_w.allFinite() && !prior_information_w.isZero();
+  const Eigen::Matrix3d prior_w =
+      prior_information_w.allFinite() && !prior_information_w.isZero() ? prior_information_w : Eigen::Matrix3d::Zero();
   prepare(reading);
 
   Eigen::SelfAdjointEigenSolver<Matrix6d> eigen;
@@ -303,8 +304,7 @@ IcpResult Icp::align(const PointCloud& reading, const LocalMap& map, const Eigen
     system = normal_equations(kept, t, result);
     eigen.compute(system.H);
     const Vector6d step_scaled =
-        gauss_newton_step(system, eigen, has_prior ? prior_information_w : Eigen::Matrix3d::Zero(),
-                          t - initial_T_wl.translation(), params_.hold_weak_translation_share,
+        gauss_newton_step(system, eigen, prior_w, t - initial_T_wl.translation(), params_.hold_weak_translation_share,
                           result.held_translation_w);
     have_system = true;
     result.covariance = covariance_of(eigen, system.residual_variance, system.length_scale);

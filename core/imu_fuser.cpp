@@ -383,30 +383,36 @@ CorrectionResult ImuFuser::correct_with_registered_pose(const ScanCorrection& sc
   previous_anchor_.reset();
   check_speeds_at_rest();
 
-  const Eigen::Quaterniond q_wi_registered = (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized();
+  const RegisteredPose registered = registered_pose_of(scan);
   PoseReset reset;
   reset.t_s = scan.t_start_s;
   reset.t_scan_end_s = scan.t_end_s;
-  reset.correction = (q_wi_registered * attitude_at(scan.t_start_s).conjugate()).normalized();
-  reset.q_wi = q_wi_registered;
-  reset.p_wi = scan.T_wl * params_.T_li.translation();
+  reset.correction = (registered.q_wi * attitude_at(scan.t_start_s).conjugate()).normalized();
+  reset.q_wi = registered.q_wi;
+  reset.p_wi = registered.p_wi;
   if (!scan.map_start && (scan.expected_error_m <= params_.levelling_max_expected_error_m ||
                           scan.expected_rotation_error_rad <= params_.levelling_max_rotation_error_rad)) {
     newest_levelling_s_ = std::max(newest_levelling_s_.value_or(scan.t_start_s), scan.t_start_s);
   }
-  const std::optional<VelocityMeasurement> velocity = velocity_from_registrations(scan, q_wi_registered, reset);
+  const std::optional<VelocityMeasurement> velocity = velocity_from_registrations(scan, registered.q_wi, reset);
 
   const double t_first_event = velocity ? velocity->t_s : reset.t_s;
   result.rewritten_after_s = history_[entry_before(t_first_event)].t_s;
   repropagate(velocity, reset);
-  previous_registration_ = RegisteredPose{scan.t_start_s,        reset.p_wi,        q_wi_registered,
-                                          scan.position_sigma_m, scan.unmeasured_w, scan.position_var_w_m2};
+  previous_registration_ = registered;
 
   result.pose_reset = true;
   result.velocity_updated = velocity.has_value();
   ++stats_.pose_corrections;
   if (velocity) ++stats_.velocity_updates;
   return result;
+}
+
+// The IMU's pose the registered lidar pose gives, with the scan's uncertainty.
+ImuFuser::RegisteredPose ImuFuser::registered_pose_of(const ScanCorrection& scan) const {
+  return {scan.t_start_s,        scan.T_wl * params_.T_li.translation(),
+          (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(),
+          scan.position_sigma_m, scan.unmeasured_w, scan.position_var_w_m2};
 }
 
 bool ImuFuser::takes_correction(const ScanCorrection& scan) {
@@ -419,12 +425,9 @@ bool ImuFuser::takes_correction(const ScanCorrection& scan) {
     return false;
   }
   if (scan.t_start_s > history_.back().t_s) {  // the IMU is silent: an anchor for when it returns (header, 7)
-    const RegisteredPose pose{scan.t_start_s, scan.T_wl * params_.T_li.translation(),
-                              (Eigen::Quaterniond(scan.T_wl.rotation()) * q_li_).normalized(), scan.position_sigma_m,
-                              scan.unmeasured_w, scan.position_var_w_m2};
     if (!anchor_ || scan.t_start_s > anchor_->t_s) {
       previous_anchor_ = anchor_;
-      anchor_ = pose;
+      anchor_ = registered_pose_of(scan);
       ++stats_.anchors_while_imu_silent;
       return false;
     }

@@ -389,6 +389,7 @@ class ImuFuser {
     Eigen::Vector3d unmeasured_w = Eigen::Vector3d::Zero();  // ScanCorrection::unmeasured_w
     Eigen::Vector3d var_w_m2 = Eigen::Vector3d::Zero();       // ScanCorrection::position_var_w_m2
   };
+  RegisteredPose registered_pose_of(const ScanCorrection& scan) const;
   std::optional<RegisteredPose> previous_registration_;
   std::optional<double> newest_levelling_s_;  // the newest registration on a map (header, 2)
   std::optional<RegisteredPose> anchor_;           // the newest correction after the newest sample
